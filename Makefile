@@ -1,0 +1,126 @@
+# tis - vertex-model tissue mechanics.  See README.md.
+#
+#   make              libmesh/libmesh.a and the programs in bin/
+#   make check        every test through prove (SAN=1: with ASan and UBSan)
+#   make bench        benchmarks in bench/, results in bench/RESULTS.md
+#   make demo         installs what is missing, builds, runs the default job
+#   make install      PREFIX=/usr/local DESTDIR=
+#
+# Everything is found by wildcard: a new libmesh/*.c or *.cc joins the
+# library, a new tools/tis-*.c is a program, tests/*.c a unit test,
+# tests/*.sh a program test, bench/*.sh a benchmark.
+
+VERSION = 0.1
+PREFIX ?= /usr/local
+DESTDIR ?=
+
+CC ?= cc
+CXX ?= c++
+OPT ?= -O2 -march=x86-64-v2
+CFLAGS ?= $(OPT) -g
+CXXFLAGS ?= $(OPT) -g
+WARN = -Wall -Wextra
+ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -Ilibmesh -DTIS_VERSION='"$(VERSION)"' $(CFLAGS)
+ALL_CXXFLAGS = -std=c++17 $(WARN) -Ilibmesh $(CXXFLAGS)
+LIBS = -lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread
+
+# SAN=1 builds everything with sanitizers into build-san/, apart from the
+# normal objects, so the two never mix.
+ifeq ($(SAN),1)
+O = build-san/
+SANFLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+ALL_CFLAGS += $(SANFLAGS)
+ALL_CXXFLAGS += $(SANFLAGS)
+LDFLAGS += $(SANFLAGS)
+export ASAN_OPTIONS = detect_leaks=1:abort_on_error=0
+export UBSAN_OPTIONS = print_stacktrace=1:halt_on_error=1
+else
+O =
+endif
+
+LIB_C = $(sort $(wildcard libmesh/*.c))
+LIB_CC = $(sort $(wildcard libmesh/*.cc))
+LIB_H = $(wildcard libmesh/*.h)
+LIB_OBJ = $(LIB_C:%.c=$(O)%.o) $(LIB_CC:%.cc=$(O)%.o)
+LIB = $(O)libmesh/libmesh.a
+
+PROGS_SRC = $(sort $(wildcard tools/tis-*.c))
+PROGS = $(PROGS_SRC:tools/%.c=$(O)bin/%)
+
+UNIT_SRC = $(sort $(wildcard tests/*.c))
+UNITS = $(UNIT_SRC:tests/%.c=$(O)tests/%.test)
+SHELL_TESTS = $(sort $(wildcard tests/*.sh))
+
+MAN1 = $(wildcard man/*.1)
+MAN5 = $(wildcard man/*.5)
+MAN7 = $(wildcard man/*.7)
+
+.PHONY: all check bench demo deps install uninstall clean samples figures
+
+all: $(LIB) $(PROGS)
+
+$(O)libmesh/%.o: libmesh/%.c $(LIB_H)
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -c -o $@ $<
+
+$(O)libmesh/%.o: libmesh/%.cc $(LIB_H)
+	@mkdir -p $(@D)
+	$(CXX) $(ALL_CXXFLAGS) -c -o $@ $<
+
+$(LIB): $(LIB_OBJ)
+	@mkdir -p $(@D)
+	rm -f $@
+	ar rcs $@ $(LIB_OBJ)
+
+$(O)tools/cli.o: tools/cli.c tools/cli.h $(LIB_H)
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -c -o $@ $<
+
+$(O)bin/%: tools/%.c $(O)tools/cli.o $(LIB) $(LIB_H)
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) -Itools $(LDFLAGS) -o $@ $< $(O)tools/cli.o $(LIB) $(LIBS)
+
+$(O)tests/%.test: tests/%.c tests/tap.h $(LIB) $(LIB_H)
+	@mkdir -p $(@D)
+	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(LIB) $(LIBS)
+
+# Program tests find the programs through TIS_BIN (and PATH).
+check: $(LIB) $(PROGS) $(UNITS)
+	TIS_BIN=$(CURDIR)/$(O)bin PATH="$(CURDIR)/$(O)bin:$$PATH" \
+	  prove -j2 $(UNITS) $(SHELL_TESTS)
+
+bench: all
+	@for b in bench/*.sh; do [ -x "$$b" ] || continue; \
+	  echo "== $$b"; PATH="$(CURDIR)/bin:$$PATH" "$$b" || exit 1; done
+
+DEBS = libgsl-dev libnlopt-dev libcgal-dev g++ make
+deps:
+	@./.ci/deps $(DEBS)
+
+demo:
+	@./.ci/deps --quiet $(DEBS)
+	@$(MAKE) --no-print-directory all
+	@PATH="$(CURDIR)/bin:$$PATH" ./samples/demo.sh
+
+samples: all
+	PATH="$(CURDIR)/bin:$$PATH" $(MAKE) -C samples
+
+figures: all
+	PATH="$(CURDIR)/bin:$$PATH" ./bench/figures.sh
+
+install: all
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \
+	  $(DESTDIR)$(PREFIX)/share/man/man5 $(DESTDIR)$(PREFIX)/share/man/man7
+	install -m 755 $(PROGS) $(DESTDIR)$(PREFIX)/bin
+	install -m 644 $(MAN1) $(DESTDIR)$(PREFIX)/share/man/man1
+	install -m 644 $(MAN5) $(DESTDIR)$(PREFIX)/share/man/man5
+	install -m 644 $(MAN7) $(DESTDIR)$(PREFIX)/share/man/man7
+
+uninstall:
+	rm -f $(PROGS:$(O)bin/%=$(DESTDIR)$(PREFIX)/bin/%) \
+	  $(MAN1:man/%=$(DESTDIR)$(PREFIX)/share/man/man1/%) \
+	  $(MAN5:man/%=$(DESTDIR)$(PREFIX)/share/man/man5/%) \
+	  $(MAN7:man/%=$(DESTDIR)$(PREFIX)/share/man/man7/%)
+
+clean:
+	rm -rf libmesh/*.o tools/*.o $(LIB) bin tests/*.test build-san demo-out

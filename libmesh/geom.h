@@ -1,0 +1,63 @@
+/* geom.h - periodic geometry, the vertex-model energy and its gradient,
+ * and tissue statistics.
+ *
+ * All functions take the coordinates r (2*nv values) separately from the
+ * mesh so that minimizers and integrators can evaluate trial points without
+ * touching the mesh; pass m->r for the mesh's own state.  Units: lengths in
+ * sqrt(A0), so the preferred area is 1.
+ *
+ *   W = sum_cells [ ka (A - 1)^2 + (P - p0)^2 ]
+ */
+#ifndef TIS_GEOM_H
+#define TIS_GEOM_H
+
+#include "mesh.h"
+
+#define TIS_PHEX 3.7224194364083982  /* 2^(3/2) 3^(1/4): unit regular hexagon */
+
+typedef struct {
+	double p0;   /* preferred shape index */
+	double ka;   /* area modulus kA*A0/kP */
+} model;
+
+/* Defaults p0 = 3.6, ka = 100, overridden by the mesh's params. */
+model model_from_mesh(const mesh *m);
+
+/* Junction vector d = r_b - r_a (minimum image) and its length. */
+double junction_vec(const mesh *m, const double *r, int j, double d[2]);
+double junction_length(const mesh *m, const double *r, int j);
+double cell_area(const mesh *m, const double *r, int k);
+double cell_perimeter(const mesh *m, const double *r, int k);
+
+/* Scratch space for energy evaluation, sized for one mesh's counts (a T1
+ * keeps them, so it stays valid across topology changes). */
+typedef struct energy_ws energy_ws;
+energy_ws *energy_ws_alloc(const mesh *m);
+void energy_ws_free(energy_ws *w);
+
+/* W at r, and its gradient dW/dr into grad (2*nv) unless grad is NULL.
+ * No allocation; w must come from energy_ws_alloc for this mesh. */
+double mesh_energy(const mesh *m, const double *r, const model *p,
+                   double *grad, energy_ws *w);
+
+/* Largest |grad_i| over vertices of a gradient vector. */
+double grad_max_norm(int nv, const double *grad);
+
+typedef struct {
+	int nv, nc, nj;
+	int nsides_max;        /* histogram bins 0..TIS_NSIDES-1, last bin is ">=" */
+	int hist[16];
+	double f6;             /* fraction of hexagons */
+	double energy;
+	double fmax;           /* largest vertex force |grad_i W| */
+	double lmin, lmean, lmax;
+	double shape_mean;     /* mean P / sqrt(A) */
+	double area_sum, area_relerr;  /* sum of areas and |sum/(lx ly) - 1| */
+	double amin, amax;
+} mesh_stats;
+#define TIS_NSIDES 16
+
+/* Statistics of m at its own coordinates.  MESH_ENOMEM. */
+int mesh_stats_compute(const mesh *m, const model *p, mesh_stats *s);
+
+#endif

@@ -1,0 +1,906 @@
+/* mesh.c - mesh data, derived junction table, tismesh 1 reader and writer. */
+#include "mesh.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Counts above this are rejected before anything is allocated, so that a
+ * corrupt header cannot ask for more memory than the index type can hold. */
+#define MESH_MAX_COUNT (INT_MAX / 8)
+
+static int fail(mesh_error *err, long line, int status, const char *fmt, ...)
+	__attribute__((format(printf, 4, 5)));
+static int fail(mesh_error *err, long line, int status, const char *fmt, ...)
+{
+	if (err) {
+		va_list ap;
+		err->line = line;
+		va_start(ap, fmt);
+		vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+		va_end(ap);
+	}
+	return status;
+}
+
+static void free_derived(mesh *m)
+{
+	free(m->cimg);
+	free(m->cj);
+	free(m->jv);
+	free(m->jc);
+	free(m->jimg);
+	m->cimg = m->jimg = NULL;
+	m->cj = m->jv = m->jc = NULL;
+	m->nj = 0;
+}
+
+mesh *mesh_alloc(double lx, double ly)
+{
+	mesh *m = calloc(1, sizeof *m);
+	if (m == NULL)
+		return NULL;
+	m->lx = lx;
+	m->ly = ly;
+	m->coff = calloc(1, sizeof *m->coff);
+	if (m->coff == NULL) {
+		free(m);
+		return NULL;
+	}
+	return m;
+}
+
+void mesh_free(mesh *m)
+{
+	if (m == NULL)
+		return;
+	free_derived(m);
+	free(m->r);
+	free(m->coff);
+	free(m->cv);
+	free(m->dg);
+	free(m->param);
+	for (int i = 0; i < m->nhist; i++)
+		free(m->hist[i]);
+	free(m->hist);
+	free(m);
+}
+
+static void *dup_array(const void *src, size_t n, size_t size)
+{
+	if (src == NULL)
+		return NULL;
+	size_t bytes = n * size;
+	void *p = malloc(bytes > 0 ? bytes : 1);
+	if (p)
+		memcpy(p, src, n * size);
+	return p;
+}
+
+mesh *mesh_copy(const mesh *m)
+{
+	mesh *c = calloc(1, sizeof *c);
+	if (c == NULL)
+		return NULL;
+	*c = *m;
+	int nk = m->coff[m->nc];
+	c->r = dup_array(m->r, 2 * (size_t)m->nv, sizeof *m->r);
+	c->coff = dup_array(m->coff, (size_t)m->nc + 1, sizeof *m->coff);
+	c->cv = dup_array(m->cv, nk, sizeof *m->cv);
+	c->cimg = dup_array(m->cimg, 2 * (size_t)nk, sizeof *m->cimg);
+	c->cj = dup_array(m->cj, nk, sizeof *m->cj);
+	c->jv = dup_array(m->jv, 2 * (size_t)m->nj, sizeof *m->jv);
+	c->jc = dup_array(m->jc, 2 * (size_t)m->nj, sizeof *m->jc);
+	c->jimg = dup_array(m->jimg, 2 * (size_t)m->nj, sizeof *m->jimg);
+	c->dg = dup_array(m->dg, m->nj, sizeof *m->dg);
+	c->param = dup_array(m->param, m->nparam, sizeof *m->param);
+	c->hist = calloc(m->nhist ? m->nhist : 1, sizeof *c->hist);
+	c->nhist = 0;
+	int bad = !c->r || !c->coff || (nk && !c->cv) || (m->cimg && !c->cimg) ||
+		  (m->cj && !c->cj) || (m->jv && !c->jv) || (m->jc && !c->jc) ||
+		  (m->jimg && !c->jimg) || (m->dg && !c->dg) ||
+		  (m->param && !c->param) || !c->hist;
+	for (int i = 0; !bad && i < m->nhist; i++) {
+		c->hist[i] = strdup(m->hist[i]);
+		if (c->hist[i] == NULL)
+			bad = 1;
+		else
+			c->nhist++;
+	}
+	if (bad) {
+		mesh_free(c);
+		return NULL;
+	}
+	return c;
+}
+
+int mesh_junction_find(const mesh *m, int a, int b)
+{
+	/* The junction of edge a->b is stored at a corner of a cell holding a;
+	 * scanning the cells' corners would be O(N), so callers that need
+	 * many look-ups should build their own map.  Linear scan is fine for
+	 * the occasional use this serves. */
+	for (int j = 0; j < m->nj; j++) {
+		int u = m->jv[2 * j], v = m->jv[2 * j + 1];
+		if ((u == a && v == b) || (u == b && v == a))
+			return j;
+	}
+	return -1;
+}
+
+int mesh_tension_alloc(mesh *m)
+{
+	if (m->dg)
+		return MESH_OK;
+	m->dg = calloc(m->nj ? m->nj : 1, sizeof *m->dg);
+	return m->dg ? MESH_OK : MESH_ENOMEM;
+}
+
+static double wrap1(double x, double l)
+{
+	double w = x - l * floor(x / l);
+	/* x slightly below a multiple of l can round up to exactly l */
+	return (w >= l || w < 0) ? 0.0 : w;
+}
+
+static double min_image_shift(double dx, double l)
+{
+	return -l * nearbyint(dx / l);
+}
+
+/* Signed area of cell k from its unwrapped polygon. */
+static double polygon_area(const mesh *m, int k)
+{
+	int s = m->coff[k], e = m->coff[k + 1];
+	double x0 = m->r[2 * m->cv[s]], y0 = m->r[2 * m->cv[s] + 1];
+	double a = 0, px = 0, py = 0;
+	for (int i = s + 1; i < e; i++) {
+		double qx = m->r[2 * m->cv[i]] + m->cimg[2 * i] - x0;
+		double qy = m->r[2 * m->cv[i] + 1] + m->cimg[2 * i + 1] - y0;
+		a += px * qy - py * qx;
+		px = qx;
+		py = qy;
+	}
+	return 0.5 * a;
+}
+
+int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
+{
+#define LINE(k) (cell_line ? cell_line[k] : 0)
+	int nv = m->nv, nc = m->nc;
+	int nk = m->coff[nc];
+	int st = MESH_ENOMEM;
+	int *outoff = NULL, *outc = NULL, *fill = NULL, *used = NULL, *ccell = NULL;
+	int *oldjv = m->jv;
+	double *olddg = m->dg;
+	int oldnj = m->nj;
+	m->jv = NULL;
+	m->dg = NULL;
+	free_derived(m);
+
+	if (!(m->lx > 0 && m->ly > 0 && isfinite(m->lx) && isfinite(m->ly))) {
+		st = fail(err, 0, MESH_EINVAL, "box must have positive finite sides");
+		goto out;
+	}
+	if (nc < 1 || nv < 3) {
+		st = fail(err, 0, MESH_EINVAL, "a tissue needs at least one cell and three vertices");
+		goto out;
+	}
+	for (int i = 0; i < 2 * nv; i++)
+		if (!isfinite(m->r[i])) {
+			st = fail(err, 0, MESH_EINVAL, "vertex %d has a non-finite coordinate", i / 2);
+			goto out;
+		}
+
+	outoff = calloc((size_t)nv + 1, sizeof *outoff);
+	fill = calloc((size_t)nv, sizeof *fill);
+	used = calloc((size_t)nv, sizeof *used);
+	outc = malloc((nk ? nk : 1) * sizeof *outc);
+	m->cj = malloc((nk ? nk : 1) * sizeof *m->cj);
+	m->cimg = malloc((nk ? 2 * (size_t)nk : 1) * sizeof *m->cimg);
+	/* a valid tissue has exactly nk/2 junctions; allocate for that */
+	m->jv = malloc((nk / 2 + 1) * 2 * sizeof *m->jv);
+	m->jc = malloc((nk / 2 + 1) * 2 * sizeof *m->jc);
+	m->jimg = malloc((nk / 2 + 1) * 2 * sizeof *m->jimg);
+	if (!outoff || !fill || !used || !outc || !m->cj || !m->cimg || !m->jv ||
+	    !m->jc || !m->jimg)
+		goto out;
+
+	/* Cells: size, ids, repeated vertices. */
+	for (int k = 0; k < nc; k++) {
+		int s = m->coff[k], e = m->coff[k + 1];
+		if (e - s < 3) {
+			st = fail(err, LINE(k), MESH_EINVAL, "cell %d has %d sides, at least 3 needed", k, e - s);
+			goto out;
+		}
+		for (int i = s; i < e; i++) {
+			int v = m->cv[i];
+			if (v < 0 || v >= nv) {
+				st = fail(err, LINE(k), MESH_EINVAL, "cell %d: vertex id %d out of range 0..%d", k, v, nv - 1);
+				goto out;
+			}
+			if (used[v] == k + 1) {
+				st = fail(err, LINE(k), MESH_EINVAL, "cell %d visits vertex %d twice", k, v);
+				goto out;
+			}
+			used[v] = k + 1;
+			outoff[v + 1]++;
+		}
+	}
+	for (int v = 0; v < nv; v++) {
+		if (!used[v]) {
+			st = fail(err, 0, MESH_EINVAL, "vertex %d belongs to no cell", v);
+			goto out;
+		}
+		outoff[v + 1] += outoff[v];
+	}
+	/* Out-going edges of every vertex: corner i is the edge cv[i] -> next. */
+	for (int i = 0; i < nk; i++)
+		outc[outoff[m->cv[i]] + fill[m->cv[i]]++] = i;
+
+	ccell = malloc((nk ? nk : 1) * sizeof *ccell);
+	if (ccell == NULL)
+		goto out;
+	for (int k = 0; k < nc; k++)
+		for (int i = m->coff[k]; i < m->coff[k + 1]; i++)
+			ccell[i] = k;
+#define NEXT(i) ((i) + 1 < m->coff[ccell[i] + 1] ? (i) + 1 : m->coff[ccell[i]])
+
+	for (int i = 0; i < nk; i++)
+		m->cj[i] = -1;
+	int nj = 0;
+	double half = 0.5 * (m->lx < m->ly ? m->lx : m->ly);
+	for (int i = 0; i < nk; i++) {
+		if (m->cj[i] >= 0)
+			continue;
+		int a = m->cv[i], b = m->cv[NEXT(i)], k = ccell[i];
+		int rev = -1;
+		for (int t = outoff[a]; t < outoff[a + 1]; t++) {
+			int c = outc[t];
+			if (c != i && m->cv[NEXT(c)] == b) {
+				st = fail(err, LINE(ccell[c] > k ? ccell[c] : k), MESH_EINVAL,
+					  "edge %d-%d runs the same way in cells %d and %d "
+					  "(a clockwise cell, or a junction in more than two cells)",
+					  a, b, k, ccell[c]);
+				goto out;
+			}
+		}
+		for (int t = outoff[b]; t < outoff[b + 1]; t++) {
+			int c = outc[t];
+			if (m->cv[NEXT(c)] == a)
+				rev = c;
+		}
+		if (rev < 0) {
+			st = fail(err, LINE(k), MESH_EINVAL, "junction %d-%d belongs to cell %d only", a, b, k);
+			goto out;
+		}
+		if (ccell[rev] == k) {
+			st = fail(err, LINE(k), MESH_EINVAL, "cell %d runs along junction %d-%d both ways", k, a, b);
+			goto out;
+		}
+		double dx = m->r[2 * b] - m->r[2 * a], dy = m->r[2 * b + 1] - m->r[2 * a + 1];
+		double sx = min_image_shift(dx, m->lx), sy = min_image_shift(dy, m->ly);
+		double len = hypot(dx + sx, dy + sy);
+		if (!(len < half)) {
+			st = fail(err, LINE(k), MESH_EINVAL,
+				  "junction %d-%d of cell %d has length %.6g, not shorter than half the box (%.6g)",
+				  a, b, k, len, half);
+			goto out;
+		}
+		m->jv[2 * nj] = a;
+		m->jv[2 * nj + 1] = b;
+		m->jc[2 * nj] = k;
+		m->jc[2 * nj + 1] = ccell[rev];
+		m->jimg[2 * nj] = sx;
+		m->jimg[2 * nj + 1] = sy;
+		m->cj[i] = m->cj[rev] = nj;
+		nj++;
+	}
+	m->nj = nj;
+
+	/* Image offsets: walk each cell; the offsets are sums of exact box
+	 * multiples, so closing back to zero is an exact test. */
+	for (int k = 0; k < nc; k++) {
+		int s = m->coff[k], e = m->coff[k + 1];
+		double ox = 0, oy = 0;
+		for (int i = s; i < e; i++) {
+			m->cimg[2 * i] = ox;
+			m->cimg[2 * i + 1] = oy;
+			int j = m->cj[i];
+			double sg = (m->jv[2 * j] == m->cv[i]) ? 1.0 : -1.0;
+			ox += sg * m->jimg[2 * j];
+			oy += sg * m->jimg[2 * j + 1];
+		}
+		if (ox != 0 || oy != 0) {
+			st = fail(err, LINE(k), MESH_EINVAL, "cell %d wraps around the periodic box", k);
+			goto out;
+		}
+	}
+	double asum = 0;
+	for (int k = 0; k < nc; k++) {
+		double a = polygon_area(m, k);
+		if (!(a > 0)) {
+			st = fail(err, LINE(k), MESH_EINVAL,
+				  "cell %d has area %.6g; cells must be counter-clockwise with positive area", k, a);
+			goto out;
+		}
+		asum += a;
+	}
+	double box = m->lx * m->ly;
+	if (fabs(asum - box) > 1e-9 * box) {
+		st = fail(err, 0, MESH_EINVAL,
+			  "cell areas add up to %.12g, not the box area %.12g (overlapping or missing cells)",
+			  asum, box);
+		goto out;
+	}
+
+	/* Carry tensions over by vertex pair. */
+	if (olddg) {
+		m->dg = calloc(nj ? nj : 1, sizeof *m->dg);
+		if (m->dg == NULL)
+			goto out;
+		for (int j = 0; j < oldnj; j++) {
+			if (olddg[j] == 0)
+				continue;
+			int a = oldjv[2 * j], b = oldjv[2 * j + 1];
+			for (int t = outoff[a]; t < outoff[a + 1]; t++) {
+				int c = outc[t];
+				if (m->cv[NEXT(c)] == b)
+					m->dg[m->cj[c]] = olddg[j];
+			}
+			for (int t = outoff[b]; t < outoff[b + 1]; t++) {
+				int c = outc[t];
+				if (m->cv[NEXT(c)] == a)
+					m->dg[m->cj[c]] = olddg[j];
+			}
+		}
+	}
+	st = MESH_OK;
+out:
+	if (st != MESH_OK)
+		free_derived(m);
+	free(outoff);
+	free(fill);
+	free(used);
+	free(outc);
+	free(ccell);
+	free(oldjv);
+	free(olddg);
+	return st;
+#undef NEXT
+#undef LINE
+}
+
+int mesh_from_cells(double lx, double ly, int nv, const double *r, int nc,
+                    const int *coff, const int *cv, mesh **out, mesh_error *err)
+{
+	*out = NULL;
+	if (nv < 0 || nc < 0 || nv > MESH_MAX_COUNT || nc > MESH_MAX_COUNT ||
+	    coff[0] != 0)
+		return fail(err, 0, MESH_EINVAL, "bad vertex or cell count");
+	for (int k = 0; k < nc; k++)
+		if (coff[k + 1] < coff[k] || coff[k + 1] > MESH_MAX_COUNT)
+			return fail(err, 0, MESH_EINVAL, "bad cell offsets");
+	mesh *m = mesh_alloc(lx, ly);
+	if (m == NULL)
+		return fail(err, 0, MESH_ENOMEM, "out of memory");
+	int nk = coff[nc];
+	m->nv = nv;
+	m->nc = nc;
+	free(m->coff);
+	m->r = dup_array(r, 2 * (size_t)nv, sizeof *r);
+	m->coff = dup_array(coff, (size_t)nc + 1, sizeof *coff);
+	m->cv = dup_array(cv, nk, sizeof *cv);
+	if (!m->r || !m->coff || !m->cv) {
+		mesh_free(m);
+		return fail(err, 0, MESH_ENOMEM, "out of memory");
+	}
+	int st = mesh_build(m, NULL, err);
+	if (st != MESH_OK) {
+		mesh_free(m);
+		return st;
+	}
+	*out = m;
+	return MESH_OK;
+}
+
+void mesh_wrap(mesh *m)
+{
+	for (int v = 0; v < m->nv; v++) {
+		m->r[2 * v] = wrap1(m->r[2 * v], m->lx);
+		m->r[2 * v + 1] = wrap1(m->r[2 * v + 1], m->ly);
+	}
+	/* Recompute the offsets for the moved vertices; the topology and the
+	 * minimum-image junction vectors are unchanged. */
+	for (int j = 0; j < m->nj; j++) {
+		int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+		m->jimg[2 * j] = min_image_shift(m->r[2 * b] - m->r[2 * a], m->lx);
+		m->jimg[2 * j + 1] = min_image_shift(m->r[2 * b + 1] - m->r[2 * a + 1], m->ly);
+	}
+	for (int k = 0; k < m->nc; k++) {
+		double ox = 0, oy = 0;
+		for (int i = m->coff[k]; i < m->coff[k + 1]; i++) {
+			m->cimg[2 * i] = ox;
+			m->cimg[2 * i + 1] = oy;
+			int j = m->cj[i];
+			double sg = (m->jv[2 * j] == m->cv[i]) ? 1.0 : -1.0;
+			ox += sg * m->jimg[2 * j];
+			oy += sg * m->jimg[2 * j + 1];
+		}
+	}
+}
+
+/* ---- parameters and history ---- */
+
+int mesh_param_get(const mesh *m, const char *name, double *v)
+{
+	for (int i = 0; i < m->nparam; i++)
+		if (strcmp(m->param[i].name, name) == 0) {
+			*v = m->param[i].value;
+			return 1;
+		}
+	return 0;
+}
+
+int mesh_param_set(mesh *m, const char *name, double v)
+{
+	if (strlen(name) >= sizeof m->param[0].name)
+		return MESH_EDOM;
+	for (int i = 0; i < m->nparam; i++)
+		if (strcmp(m->param[i].name, name) == 0) {
+			m->param[i].value = v;
+			return MESH_OK;
+		}
+	mesh_param *p = realloc(m->param, (m->nparam + 1) * sizeof *p);
+	if (p == NULL)
+		return MESH_ENOMEM;
+	m->param = p;
+	strcpy(p[m->nparam].name, name);
+	p[m->nparam].value = v;
+	m->nparam++;
+	return MESH_OK;
+}
+
+int mesh_history_add(mesh *m, const char *text)
+{
+	char **h = realloc(m->hist, (m->nhist + 1) * sizeof *h);
+	if (h == NULL)
+		return MESH_ENOMEM;
+	m->hist = h;
+	char *s = strdup(text);
+	if (s == NULL)
+		return MESH_ENOMEM;
+	for (char *p = s; *p; p++)
+		if (*p == '\n' || *p == '\r')
+			*p = ' ';
+	h[m->nhist++] = s;
+	return MESH_OK;
+}
+
+/* Quote an argument the way a shell would need it, so that a history line
+ * can be pasted back into a shell. */
+static int needs_quote(const char *s)
+{
+	if (*s == '\0')
+		return 1;
+	for (; *s; s++)
+		if (!(isalnum((unsigned char)*s) || strchr("-_./=:,+%@", *s)))
+			return 1;
+	return 0;
+}
+
+int mesh_history_argv(mesh *m, int argc, char *const argv[])
+{
+	size_t len = 1;
+	for (int i = 0; i < argc; i++)
+		len += 4 * strlen(argv[i]) + 3;
+	char *buf = malloc(len), *p = buf;
+	if (buf == NULL)
+		return MESH_ENOMEM;
+	for (int i = 0; i < argc; i++) {
+		const char *a = argv[i];
+		if (i == 0) {
+			const char *slash = strrchr(a, '/');
+			if (slash)
+				a = slash + 1;
+		}
+		if (i > 0)
+			*p++ = ' ';
+		if (needs_quote(a)) {
+			*p++ = '\'';
+			for (; *a; a++) {
+				if (*a == '\'') {
+					memcpy(p, "'\\''", 4);
+					p += 4;
+				} else {
+					*p++ = *a;
+				}
+			}
+			*p++ = '\'';
+		} else {
+			size_t n = strlen(a);
+			memcpy(p, a, n);
+			p += n;
+		}
+	}
+	*p = '\0';
+	int st = mesh_history_add(m, buf);
+	free(buf);
+	return st;
+}
+
+/* ---- writer ---- */
+
+/* The shortest of %.15g, %.16g, %.17g that reads back to the same double:
+ * exact like %.17g, but 3.7 stays "3.7". */
+static void put_num(FILE *f, double x)
+{
+	char buf[40];
+	for (int prec = 15; prec <= 17; prec++) {
+		snprintf(buf, sizeof buf, "%.*g", prec, x);
+		if (prec == 17 || strtod(buf, NULL) == x)
+			break;
+	}
+	fputs(buf, f);
+}
+
+int mesh_write(FILE *f, const mesh *m)
+{
+	fputs("tismesh 1\nbox ", f);
+	put_num(f, m->lx);
+	fputc(' ', f);
+	put_num(f, m->ly);
+	fputc('\n', f);
+	for (int i = 0; i < m->nparam; i++) {
+		fprintf(f, "param %s ", m->param[i].name);
+		put_num(f, m->param[i].value);
+		fputc('\n', f);
+	}
+	for (int i = 0; i < m->nhist; i++)
+		fprintf(f, "history %s\n", m->hist[i]);
+	fprintf(f, "vertices %d\n", m->nv);
+	for (int v = 0; v < m->nv; v++) {
+		/* + 0.0 turns -0 into 0 */
+		put_num(f, wrap1(m->r[2 * v], m->lx) + 0.0);
+		fputc(' ', f);
+		put_num(f, wrap1(m->r[2 * v + 1], m->ly) + 0.0);
+		fputc('\n', f);
+	}
+	fprintf(f, "cells %d\n", m->nc);
+	for (int k = 0; k < m->nc; k++) {
+		fprintf(f, "%d", m->coff[k + 1] - m->coff[k]);
+		for (int i = m->coff[k]; i < m->coff[k + 1]; i++)
+			fprintf(f, " %d", m->cv[i]);
+		fputc('\n', f);
+	}
+	if (m->dg) {
+		int n = 0;
+		for (int j = 0; j < m->nj; j++)
+			n += m->dg[j] != 0;
+		if (n > 0) {
+			fprintf(f, "junctions %d\n", n);
+			for (int j = 0; j < m->nj; j++)
+				if (m->dg[j] != 0)
+				{
+					fprintf(f, "%d %d ", m->jv[2 * j], m->jv[2 * j + 1]);
+					put_num(f, m->dg[j]);
+					fputc('\n', f);
+				}
+		}
+	}
+	fputs("end\n", f);
+	return ferror(f) ? MESH_EIO : MESH_OK;
+}
+
+/* ---- reader ---- */
+
+typedef struct {
+	FILE *f;
+	long *line;
+	char *buf;
+	size_t cap;
+	char *tok[8];
+	int ntok;
+	char *rest;        /* text after the first token, for history */
+} reader;
+
+/* Next line that is neither blank nor a comment, split into up to 8
+ * tokens (ntok counts all of them).  0 at end of input, -1 on read error. */
+static int next_line(reader *rd)
+{
+	for (;;) {
+		errno = 0;
+		ssize_t n = getline(&rd->buf, &rd->cap, rd->f);
+		if (n < 0)
+			return ferror(rd->f) ? -1 : 0;
+		(*rd->line)++;
+		char *s = rd->buf;
+		while (n > 0 && (s[n - 1] == '\n' || s[n - 1] == '\r'))
+			s[--n] = '\0';
+		if (strlen(s) != (size_t)n) {
+			/* an embedded NUL: not text */
+			rd->ntok = -1;
+			return 1;
+		}
+		while (*s == ' ' || *s == '\t')
+			s++;
+		if (*s == '\0' || *s == '#')
+			continue;
+		rd->ntok = 0;
+		rd->rest = NULL;
+		while (*s) {
+			char *t = s;
+			while (*s && *s != ' ' && *s != '\t')
+				s++;
+			if (rd->ntok == 1 && rd->rest == NULL)
+				rd->rest = t;
+			if (rd->ntok < 8)
+				rd->tok[rd->ntok] = t;
+			rd->ntok++;
+			if (*s)
+				*s++ = '\0';
+			while (*s == ' ' || *s == '\t')
+				s++;
+		}
+		return 1;
+	}
+}
+
+static int parse_double(const char *s, double *v)
+{
+	char *end;
+	errno = 0;
+	*v = strtod(s, &end);
+	return end != s && *end == '\0' && errno != ERANGE && isfinite(*v);
+}
+
+static int parse_int(const char *s, long lo, long hi, int *v)
+{
+	char *end;
+	errno = 0;
+	long x = strtol(s, &end, 10);
+	if (end == s || *end != '\0' || errno == ERANGE || x < lo || x > hi)
+		return 0;
+	*v = (int)x;
+	return 1;
+}
+
+static int grow(void **p, size_t *cap, size_t need, size_t size)
+{
+	if (need <= *cap)
+		return 1;
+	size_t nc = *cap ? *cap : 64;
+	while (nc < need)
+		nc *= 2;
+	void *q = realloc(*p, nc * size);
+	if (q == NULL)
+		return 0;
+	*p = q;
+	*cap = nc;
+	return 1;
+}
+
+typedef struct { int a, b; double dg; long line; } jline;
+
+static int read_body(reader *rd, mesh *m, mesh_error *err)
+{
+	long L;
+	int n;
+	size_t rcap = 0, cvcap = 0, coffcap = 0, lcap = 0, jcap = 0;
+	long *cline = NULL;
+	jline *jl = NULL;
+	int njl = 0;
+	int st = MESH_EINVAL;
+	int have_box = 0;
+
+#define EOFERR(what) do { st = n < 0 ? fail(err, *rd->line, MESH_EIO, "read error: %s", strerror(errno)) \
+	: fail(err, *rd->line, MESH_EINVAL, "unexpected end of input: %s", what); goto out; } while (0)
+#define NOMEM() do { st = fail(err, *rd->line, MESH_ENOMEM, "out of memory"); goto out; } while (0)
+#define BAD(...) do { st = fail(err, L, MESH_EINVAL, __VA_ARGS__); goto out; } while (0)
+
+	/* header: box, param, history, up to "vertices" */
+	for (;;) {
+		if ((n = next_line(rd)) <= 0)
+			EOFERR("expected 'vertices'");
+		L = *rd->line;
+		if (rd->ntok < 0)
+			BAD("line contains a NUL byte");
+		const char *k = rd->tok[0];
+		if (strcmp(k, "box") == 0) {
+			if (have_box)
+				BAD("second 'box' line");
+			if (rd->ntok != 3 || !parse_double(rd->tok[1], &m->lx) ||
+			    !parse_double(rd->tok[2], &m->ly))
+				BAD("expected 'box LX LY' with two finite numbers");
+			if (!(m->lx > 0 && m->ly > 0))
+				BAD("box sides must be positive");
+			have_box = 1;
+		} else if (strcmp(k, "param") == 0) {
+			double v;
+			if (rd->ntok != 3 || !parse_double(rd->tok[2], &v))
+				BAD("expected 'param NAME VALUE' with a finite value");
+			const char *nm = rd->tok[1];
+			if (!(isalpha((unsigned char)nm[0]) || nm[0] == '_') || strlen(nm) >= 32)
+				BAD("bad parameter name '%.40s'", nm);
+			for (const char *c = nm; *c; c++)
+				if (!(isalnum((unsigned char)*c) || *c == '_'))
+					BAD("bad parameter name '%.40s'", nm);
+			if (mesh_param_set(m, nm, v) != MESH_OK)
+				NOMEM();
+		} else if (strcmp(k, "history") == 0) {
+			if (mesh_history_add(m, rd->rest ? rd->rest : "") != MESH_OK)
+				NOMEM();
+		} else if (strcmp(k, "vertices") == 0) {
+			if (!have_box)
+				BAD("'vertices' before 'box'");
+			if (rd->ntok != 2 || !parse_int(rd->tok[1], 3, MESH_MAX_COUNT, &m->nv))
+				BAD("expected 'vertices NV' with a count in 3..%d", MESH_MAX_COUNT);
+			break;
+		} else {
+			BAD("unexpected '%.40s', expected box, param, history or vertices", k);
+		}
+	}
+
+	/* Arrays grow as lines arrive, so a huge count in a short file fails
+	 * at its end instead of allocating up front. */
+	for (int v = 0; v < m->nv; v++) {
+		if ((n = next_line(rd)) <= 0)
+			EOFERR("fewer vertex lines than 'vertices' says");
+		L = *rd->line;
+		if (rd->ntok < 0)
+			BAD("line contains a NUL byte");
+		if (rd->ntok != 2)
+			BAD("vertex %d: expected 'X Y', got %d fields", v, rd->ntok);
+		if (!grow((void **)&m->r, &rcap, 2 * (size_t)v + 2, sizeof *m->r))
+			NOMEM();
+		if (!parse_double(rd->tok[0], &m->r[2 * v]) || !parse_double(rd->tok[1], &m->r[2 * v + 1]))
+			BAD("vertex %d: coordinates must be finite numbers", v);
+	}
+
+	if ((n = next_line(rd)) <= 0)
+		EOFERR("expected 'cells'");
+	L = *rd->line;
+	if (rd->ntok < 0)
+		BAD("line contains a NUL byte");
+	if (strcmp(rd->tok[0], "cells") != 0)
+		BAD("expected 'cells NC', got '%.40s' (more vertex lines than 'vertices' says?)", rd->tok[0]);
+	if (rd->ntok != 2 || !parse_int(rd->tok[1], 1, MESH_MAX_COUNT, &m->nc))
+		BAD("expected 'cells NC' with a count in 1..%d", MESH_MAX_COUNT);
+	int nk = 0;
+	for (int k = 0; k < m->nc; k++) {
+		if ((n = next_line(rd)) <= 0)
+			EOFERR("fewer cell lines than 'cells' says");
+		L = *rd->line;
+		if (rd->ntok < 0)
+			BAD("line contains a NUL byte");
+		int ns;
+		if (!parse_int(rd->tok[0], 0, INT_MAX, &ns))
+			BAD("cell %d: expected the number of sides, got '%.40s'", k, rd->tok[0]);
+		if (ns < 3)
+			BAD("cell %d has %d sides, at least 3 needed", k, ns);
+		if (ns > m->nv)
+			BAD("cell %d has %d sides but there are only %d vertices", k, ns, m->nv);
+		if (rd->ntok != ns + 1)
+			BAD("cell %d: %d sides but %d vertex ids", k, ns, rd->ntok - 1);
+		if (nk > MESH_MAX_COUNT - ns)
+			BAD("too many cell corners");
+		if (!grow((void **)&m->cv, &cvcap, (size_t)nk + ns, sizeof *m->cv) ||
+		    !grow((void **)&m->coff, &coffcap, (size_t)k + 2, sizeof *m->coff) ||
+		    !grow((void **)&cline, &lcap, (size_t)k + 1, sizeof *cline))
+			NOMEM();
+		/* the tokenizer keeps 8; re-split long lines from the buffer */
+		char *s = rd->tok[0];
+		for (int i = 0; i <= ns; i++) {
+			while (*s == '\0' || *s == ' ' || *s == '\t')
+				s++;
+			if (i > 0 && !parse_int(s, 0, m->nv - 1, &m->cv[nk + i - 1]))
+				BAD("cell %d: vertex id '%.40s' is not in 0..%d", k, s, m->nv - 1);
+			s += strlen(s);
+		}
+		m->coff[0] = 0;
+		nk += ns;
+		m->coff[k + 1] = nk;
+		cline[k] = L;
+	}
+
+	if ((n = next_line(rd)) <= 0)
+		EOFERR("expected 'junctions' or 'end'");
+	L = *rd->line;
+	if (rd->ntok < 0)
+		BAD("line contains a NUL byte");
+	if (strcmp(rd->tok[0], "junctions") == 0) {
+		int nj;
+		if (rd->ntok != 2 || !parse_int(rd->tok[1], 0, nk / 2, &nj))
+			BAD("expected 'junctions NJ' with a count in 0..%d", nk / 2);
+		for (int j = 0; j < nj; j++) {
+			if ((n = next_line(rd)) <= 0)
+				EOFERR("fewer junction lines than 'junctions' says");
+			L = *rd->line;
+			if (rd->ntok < 0)
+				BAD("line contains a NUL byte");
+			if (!grow((void **)&jl, &jcap, (size_t)j + 1, sizeof *jl))
+				NOMEM();
+			if (rd->ntok != 3 || !parse_int(rd->tok[0], 0, m->nv - 1, &jl[j].a) ||
+			    !parse_int(rd->tok[1], 0, m->nv - 1, &jl[j].b) ||
+			    !parse_double(rd->tok[2], &jl[j].dg))
+				BAD("expected 'A B DGAMMA' with vertex ids in 0..%d and a finite tension", m->nv - 1);
+			jl[j].line = L;
+			njl++;
+		}
+		if ((n = next_line(rd)) <= 0)
+			EOFERR("expected 'end'");
+		L = *rd->line;
+		if (rd->ntok < 0)
+			BAD("line contains a NUL byte");
+	}
+	if (strcmp(rd->tok[0], "end") != 0 || rd->ntok != 1)
+		BAD("expected 'end', got '%.40s'", rd->tok[0]);
+
+	st = mesh_build(m, cline, err);
+	if (st != MESH_OK)
+		goto out;
+	if (njl > 0) {
+		if (mesh_tension_alloc(m) != MESH_OK)
+			NOMEM();
+		unsigned char *seen = calloc(m->nj, 1);
+		if (seen == NULL)
+			NOMEM();
+		for (int i = 0; i < njl; i++) {
+			int j = mesh_junction_find(m, jl[i].a, jl[i].b);
+			L = jl[i].line;
+			if (j < 0 || seen[j]) {
+				free(seen);
+				if (j < 0)
+					BAD("%d-%d is not a junction of the mesh", jl[i].a, jl[i].b);
+				BAD("junction %d-%d listed twice", jl[i].a, jl[i].b);
+			}
+			seen[j] = 1;
+			m->dg[j] = jl[i].dg;
+		}
+		free(seen);
+	}
+	st = MESH_OK;
+out:
+	free(cline);
+	free(jl);
+	return st;
+#undef EOFERR
+#undef NOMEM
+#undef BAD
+}
+
+int mesh_read(FILE *f, long *line, mesh **out, mesh_error *err)
+{
+	reader rd = { .f = f, .line = line };
+	*out = NULL;
+	int n = next_line(&rd);
+	if (n == 0) {
+		free(rd.buf);
+		return MESH_EOF;
+	}
+	if (n < 0) {
+		free(rd.buf);
+		return fail(err, *line, MESH_EIO, "read error: %s", strerror(errno));
+	}
+	if (rd.ntok != 2 || strcmp(rd.tok[0], "tismesh") != 0 || strcmp(rd.tok[1], "1") != 0) {
+		free(rd.buf);
+		return fail(err, *line, MESH_EINVAL, "not a tismesh 1 file (expected 'tismesh 1')");
+	}
+	mesh *m = mesh_alloc(0, 0);
+	if (m == NULL) {
+		free(rd.buf);
+		return fail(err, *line, MESH_ENOMEM, "out of memory");
+	}
+	int st = read_body(&rd, m, err);
+	free(rd.buf);
+	if (st != MESH_OK) {
+		mesh_free(m);
+		return st;
+	}
+	*out = m;
+	return MESH_OK;
+}

@@ -1,0 +1,115 @@
+/* mesh.h - the tissue mesh: data, the tismesh 1 format, validation.
+ *
+ * A mesh is a periodic planar tiling of polygonal cells.  The primary data
+ * are the box, the vertex coordinates and the cells (counter-clockwise
+ * vertex lists).  Everything else (junction table, periodic image offsets)
+ * is derived by mesh_build() and must be rebuilt after a topology change.
+ *
+ * Functions return a status (MESH_OK or a MESH_E* code); on failure they
+ * fill a mesh_error with the input line (0 if none) and a message.  The
+ * library never prints and never exits.
+ */
+#ifndef TIS_MESH_H
+#define TIS_MESH_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+enum mesh_status {
+	MESH_OK = 0,
+	MESH_EOF = -1,     /* mesh_read: no further mesh in the stream */
+	MESH_EINVAL = 1,   /* malformed or invalid input */
+	MESH_ENOMEM = 2,   /* allocation failed */
+	MESH_EIO = 3,      /* read or write error */
+	MESH_ENOCONV = 4,  /* an iterative method did not reach its tolerance */
+	MESH_EDOM = 5      /* argument out of range */
+};
+
+typedef struct {
+	long line;         /* input line the error refers to, 0 if none */
+	char msg[240];     /* lowercase, no full stop */
+} mesh_error;
+
+typedef struct {
+	char name[32];
+	double value;
+} mesh_param;
+
+typedef struct mesh {
+	double lx, ly;     /* periodic box [0,lx) x [0,ly) */
+
+	int nv;
+	double *r;         /* 2*nv coordinates, x0 y0 x1 y1 ...; any finite values */
+
+	int nc;
+	int *coff;         /* nc+1 offsets into cv: cell k is cv[coff[k] .. coff[k+1]) */
+	int *cv;           /* counter-clockwise vertex ids of all cells */
+
+	/* Derived by mesh_build(): */
+	double *cimg;      /* 2 per corner: the periodic image offset that puts
+	                      vertex cv[i] next to the cell's first vertex, so
+	                      r[cv[i]] + cimg[i] is the unwrapped polygon */
+	int *cj;           /* per corner i: junction of the edge cv[i] -> cv[i+1] */
+	int nj;
+	int *jv;           /* 2*nj: vertices a, b of junction j */
+	int *jc;           /* 2*nj: cell in which a->b runs ccw, cell with b->a */
+	double *jimg;      /* 2*nj: image offset, d = r[b] - r[a] + jimg (minimum image) */
+
+	double *dg;        /* nj junction tensions, or NULL when no junction has state */
+
+	int nparam;
+	mesh_param *param;
+	int nhist;
+	char **hist;
+} mesh;
+
+/* A new empty mesh (no vertices, no cells) in an lx by ly box. */
+mesh *mesh_alloc(double lx, double ly);
+void mesh_free(mesh *m);
+
+/* Deep copy, NULL if out of memory. */
+mesh *mesh_copy(const mesh *m);
+
+/* Make a mesh from a box, nv vertices (2*nv coordinates) and nc cells given
+ * as offsets coff[nc+1] into the vertex list cv, then mesh_build() it.  The
+ * arrays are copied.  On failure *out is NULL. */
+int mesh_from_cells(double lx, double ly, int nv, const double *r, int nc,
+                    const int *coff, const int *cv, mesh **out, mesh_error *err);
+
+/* Derive junctions and image offsets from box, vertices and cells, and check
+ * every invariant of a valid tissue: each junction in exactly two cells with
+ * opposite orientation, no junction longer than min(lx,ly)/2, >= 3 sides and
+ * positive area per cell, areas adding up to lx*ly (relative 1e-9), every
+ * vertex used.  Junction tensions are kept for junctions that still join the
+ * same two vertices and dropped otherwise.  cell_line, if not NULL, gives the
+ * input line of each cell for error messages. */
+int mesh_build(mesh *m, const long *cell_line, mesh_error *err);
+
+/* Read the next mesh of a tismesh 1 stream.  *line counts input lines across
+ * calls (start it at 0).  Returns MESH_OK, MESH_EOF at a clean end of the
+ * stream, or an error code with err filled in. */
+int mesh_read(FILE *f, long *line, mesh **out, mesh_error *err);
+
+/* Write m in tismesh 1 format, coordinates wrapped into the box, numbers with
+ * %.17g so they read back exactly.  MESH_EIO on a write error. */
+int mesh_write(FILE *f, const mesh *m);
+
+/* Move every vertex into [0,lx) x [0,ly) and recompute the image offsets. */
+void mesh_wrap(mesh *m);
+
+/* The junction joining vertices a and b (either order), or -1. */
+int mesh_junction_find(const mesh *m, int a, int b);
+
+/* Give the mesh a tension array (zeros) if it has none.  MESH_ENOMEM. */
+int mesh_tension_alloc(mesh *m);
+
+/* Parameters: get returns 1 and sets *v if present, else 0. */
+int mesh_param_get(const mesh *m, const char *name, double *v);
+int mesh_param_set(mesh *m, const char *name, double v);
+
+/* Append a history line (newlines become spaces). */
+int mesh_history_add(mesh *m, const char *text);
+/* Append the command line argv[0..argc) as a history line. */
+int mesh_history_argv(mesh *m, int argc, char *const argv[]);
+
+#endif

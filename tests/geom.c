@@ -1,0 +1,122 @@
+/* Energy and gradient: analytic values on the honeycomb, central finite
+ * differences on perturbed and irregular meshes, area invariants. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "geom.h"
+#include "lattice.h"
+#include "tap.h"
+
+/* Deterministic perturbation (no RNG dependence in the test). */
+static void perturb(mesh *m, double amp, unsigned seed)
+{
+	for (int i = 0; i < 2 * m->nv; i++) {
+		seed = seed * 1103515245u + 12345u;
+		m->r[i] += amp * (((seed >> 8) & 0xffff) / 32768.0 - 1.0);
+	}
+}
+
+/* Largest relative error of the analytic gradient against central
+ * differences with step h. */
+static double fd_error(const mesh *m, const model *p, double h)
+{
+	energy_ws *w = energy_ws_alloc(m);
+	int n = 2 * m->nv;
+	double *g = malloc(n * sizeof *g), *x = malloc(n * sizeof *x);
+	for (int i = 0; i < n; i++)
+		x[i] = m->r[i];
+	mesh_energy(m, x, p, g, w);
+	double gmax = 0, emax = 0;
+	for (int i = 0; i < n; i++)
+		if (fabs(g[i]) > gmax)
+			gmax = fabs(g[i]);
+	for (int i = 0; i < n; i++) {
+		double x0 = x[i];
+		x[i] = x0 + h;
+		double wp = mesh_energy(m, x, p, NULL, w);
+		x[i] = x0 - h;
+		double wm = mesh_energy(m, x, p, NULL, w);
+		x[i] = x0;
+		double fd = (wp - wm) / (2 * h);
+		double e = fabs(fd - g[i]) / gmax;
+		if (e > emax)
+			emax = e;
+	}
+	free(g);
+	free(x);
+	energy_ws_free(w);
+	return emax;
+}
+
+int main(void)
+{
+	tap_plan(17);
+	mesh *m;
+	mesh_error err;
+	ok(lattice_honeycomb(18, 18, &m, &err) == MESH_OK, "18x18 honeycomb builds");
+	ok(m->nv == 648 && m->nc == 324 && m->nj == 972, "648 vertices, 324 cells, 972 junctions");
+
+	energy_ws *w = energy_ws_alloc(m);
+	double *g = malloc(2 * m->nv * sizeof *g);
+	double p0s[] = { 3.5, 3.7, TIS_PHEX, 3.9 };
+	for (int i = 0; i < 4; i++) {
+		model p = { .p0 = p0s[i], .ka = 100 };
+		double want = m->nc * (TIS_PHEX - p.p0) * (TIS_PHEX - p.p0);
+		double W = mesh_energy(m, m->r, &p, g, w);
+		char what[80];
+		snprintf(what, sizeof what, "honeycomb W = NC (p_hex - p0)^2 at p0 = %.4f", p.p0);
+		is_near(W, want, 1e-12 * (1 + want) + 1e-11, what);
+	}
+	model p = { .p0 = 3.7, .ka = 100 };
+	mesh_energy(m, m->r, &p, g, w);
+	ok(grad_max_norm(m->nv, g) < 1e-11, "honeycomb is force-free (max force %.3g)",
+	   grad_max_norm(m->nv, g));
+	double asum = 0;
+	for (int k = 0; k < m->nc; k++)
+		asum += cell_area(m, m->r, k);
+	is_near(asum, m->lx * m->ly, 1e-10, "areas add up to the box");
+	is_near(cell_perimeter(m, m->r, 0), TIS_PHEX, 1e-13, "hexagon perimeter is p_hex");
+
+	/* Translation invariance: the gradient sums to zero. */
+	perturb(m, 0.05, 1);
+	mesh_energy(m, m->r, &p, g, w);
+	double sx = 0, sy = 0;
+	for (int v = 0; v < m->nv; v++) {
+		sx += g[2 * v];
+		sy += g[2 * v + 1];
+	}
+	ok(fabs(sx) < 1e-9 && fabs(sy) < 1e-9, "gradient sums to zero (%.2g, %.2g)", sx, sy);
+
+	for (int i = 0; i < 3; i++) {
+		model q = { .p0 = p0s[i], .ka = i == 2 ? 1 : 100 };
+		double e = fd_error(m, &q, 1e-6);
+		ok(e < 1e-7, "perturbed honeycomb, p0 %.3f ka %g: gradient vs finite differences %.2e",
+		   q.p0, q.ka, e);
+	}
+	/* Strongly irregular: large perturbation of a small tissue, vertices
+	 * pushed across the box edge (offsets must follow). */
+	mesh *s;
+	lattice_honeycomb(4, 4, &s, &err);
+	perturb(s, 0.15, 7);
+	for (int v = 0; v < s->nv; v++)
+		s->r[2 * v] += 0.3 * s->lx;
+	double e = fd_error(s, &p, 1e-6);
+	ok(e < 1e-7, "irregular 4x4 tissue, shifted across the box: gradient error %.2e", e);
+	/* Energy does not care where the box edge is. */
+	energy_ws *ws = energy_ws_alloc(s);
+	double W1 = mesh_energy(s, s->r, &p, NULL, ws);
+	mesh_wrap(s);
+	double W2 = mesh_energy(s, s->r, &p, NULL, ws);
+	is_near(W2, W1, 1e-11 * W1, "energy unchanged by wrapping vertices into the box");
+	mesh_stats st;
+	ok(mesh_stats_compute(s, &p, &st) == MESH_OK && st.area_relerr < 1e-12,
+	   "area sum after perturbation and wrap (rel. err %.2g)", st.area_relerr);
+	mesh_stats_compute(m, &p, &st);
+	ok(st.hist[6] == 324 && st.f6 == 1.0, "stats: honeycomb is all hexagons");
+	energy_ws_free(ws);
+	mesh_free(s);
+	energy_ws_free(w);
+	free(g);
+	mesh_free(m);
+	return tap_done();
+}

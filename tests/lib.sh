@@ -1,0 +1,29 @@
+# lib.sh - TAP helpers for the program tests; source it, then call plan N.
+# The programs are found on PATH (make check puts bin/ first).
+set -u
+T=$(mktemp -d "${TMPDIR:-/tmp}/tis-test.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+n=0
+failed=0
+plan() { echo "1..$1"; }
+pass() { n=$((n + 1)); echo "ok $n - $1"; }
+fail() { n=$((n + 1)); failed=$((failed + 1)); echo "not ok $n - $1"; }
+diag() { printf '# %s\n' "$@"; }
+# ok DESCRIPTION COMMAND...: passes when the command succeeds.
+ok() { d=$1; shift; if "$@"; then pass "$d"; else fail "$d"; fi; }
+# fails_with STATUS DESCRIPTION COMMAND...: the command must exit with
+# STATUS and write exactly one line to stderr, and no crash (status >= 128
+# or a sanitizer report) is accepted.
+fails_with() {
+	want=$1 d=$2; shift 2
+	"$@" >"$T/out" 2>"$T/err"; st=$?
+	lines=$(wc -l <"$T/err")
+	if [ "$st" -eq "$want" ] && [ "$lines" -eq 1 ] && ! grep -q Sanitizer "$T/err"; then
+		pass "$d"
+	else
+		fail "$d"; diag "exit $st (want $want), stderr $lines lines:"; sed 's/^/#   /' "$T/err" | head -5
+	fi
+}
+# near A B TOL: |A - B| <= TOL
+near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t) }'; }
+done_testing() { [ "$failed" -eq 0 ]; }

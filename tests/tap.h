@@ -1,0 +1,52 @@
+/* tap.h - a minimal TAP producer for the C unit tests (run by prove). */
+#ifndef TIS_TAP_H
+#define TIS_TAP_H
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+
+static int tap_n, tap_failed;
+
+static void tap_plan(int n) { printf("1..%d\n", n); }
+
+static int ok(int cond, const char *fmt, ...) __attribute__((format(printf, 2, 3), unused));
+static int ok(int cond, const char *fmt, ...)
+{
+	va_list ap;
+	printf("%sok %d - ", cond ? "" : "not ", ++tap_n);
+	va_start(ap, fmt);
+	vprintf(fmt, ap);
+	va_end(ap);
+	putchar('\n');
+	if (!cond)
+		tap_failed++;
+	return cond;
+}
+
+/* |got - want| <= tol, with both values in the diagnostics on failure. */
+__attribute__((unused)) static int is_near(double got, double want, double tol, const char *what)
+{
+	int c = isfinite(got) && fabs(got - want) <= tol;
+	ok(c, "%s", what);
+	if (!c)
+		printf("#   got %.17g, want %.17g (tol %g, diff %g)\n",
+		       got, want, tol, fabs(got - want));
+	return c;
+}
+
+static void diag(const char *fmt, ...) __attribute__((format(printf, 1, 2), unused));
+static void diag(const char *fmt, ...)
+{
+	va_list ap;
+	fputs("# ", stdout);
+	va_start(ap, fmt);
+	vprintf(fmt, ap);
+	va_end(ap);
+	putchar('\n');
+}
+
+/* Exit status for main: done_testing() after a plan. */
+static int tap_done(void) { return tap_failed ? 1 : 0; }
+
+#endif

@@ -1,0 +1,181 @@
+#include "cli.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *cli_name = "tis";
+static const char *cli_usage_line = "";
+volatile sig_atomic_t cli_stop;
+
+void cli_init(const char *name, const char *usage)
+{
+	cli_name = name;
+	cli_usage_line = usage;
+	opterr = 0; /* getopt's own messages would name argv[0], not cli_name */
+}
+
+static void vmsg(const char *fmt, va_list ap)
+{
+	fprintf(stderr, "%s: ", cli_name);
+	vfprintf(stderr, fmt, ap);
+	fputc('\n', stderr);
+}
+
+void cli_die(int status, const char *fmt, ...)
+{
+	va_list ap;
+	va_start(ap, fmt);
+	vmsg(fmt, ap);
+	va_end(ap);
+	exit(status);
+}
+
+void cli_warn(const char *fmt, ...)
+{
+	va_list ap;
+	va_start(ap, fmt);
+	vmsg(fmt, ap);
+	va_end(ap);
+}
+
+void cli_usage_error(const char *fmt, ...)
+{
+	va_list ap;
+	va_start(ap, fmt);
+	vmsg(fmt, ap);
+	va_end(ap);
+	fprintf(stderr, "usage: %s %s\n", cli_name, cli_usage_line);
+	fprintf(stderr, "Try '%s --help' for more information.\n", cli_name);
+	exit(EXIT_USAGE);
+}
+
+void cli_bad_option(char *const argv[], int c)
+{
+	const char *opt = argv[optind - 1];
+	if (c == ':')
+		cli_usage_error("option '%s' needs an argument", opt);
+	if (optopt && opt[0] == '-' && opt[1] != '-')
+		cli_usage_error("unknown option '-%c'", optopt);
+	cli_usage_error("unknown option '%s'", opt);
+}
+
+void cli_help(const char *text)
+{
+	printf("usage: %s %s\n%s", cli_name, cli_usage_line, text);
+	cli_finish();
+}
+
+void cli_version(void)
+{
+	printf("%s (tis) %s\n", cli_name, TIS_VERSION);
+	cli_finish();
+}
+
+double cli_double(const char *opt, const char *arg)
+{
+	char *end;
+	errno = 0;
+	double v = strtod(arg, &end);
+	if (end == arg || *end != '\0' || errno == ERANGE || !isfinite(v))
+		cli_usage_error("%s: not a finite number: '%s'", opt, arg);
+	return v;
+}
+
+double cli_double_range(const char *opt, const char *arg, double lo, double hi)
+{
+	double v = cli_double(opt, arg);
+	if (v < lo || v > hi)
+		cli_usage_error("%s: %s is out of range [%g, %g]", opt, arg, lo, hi);
+	return v;
+}
+
+long cli_long(const char *opt, const char *arg, long lo, long hi)
+{
+	char *end;
+	errno = 0;
+	long v = strtol(arg, &end, 10);
+	if (end == arg || *end != '\0' || errno == ERANGE)
+		cli_usage_error("%s: not an integer: '%s'", opt, arg);
+	if (v < lo || v > hi)
+		cli_usage_error("%s: %ld is out of range [%ld, %ld]", opt, v, lo, hi);
+	return v;
+}
+
+const char *cli_input_name(const char *path)
+{
+	return (path == NULL || strcmp(path, "-") == 0) ? "<stdin>" : path;
+}
+
+FILE *cli_open(const char *path)
+{
+	if (path == NULL || strcmp(path, "-") == 0)
+		return stdin;
+	FILE *f = fopen(path, "r");
+	if (f == NULL)
+		cli_die(EXIT_INPUT, "%s: %s", path, strerror(errno));
+	return f;
+}
+
+int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m)
+{
+	mesh_error err;
+	int st = mesh_read(f, line, m, &err);
+	if (st == MESH_OK)
+		return 1;
+	if (st == MESH_EOF)
+		return 0;
+	if (err.line > 0)
+		cli_die(EXIT_INPUT, "%s:%ld: %s", cli_input_name(path), err.line, err.msg);
+	cli_die(EXIT_INPUT, "%s: %s", cli_input_name(path), err.msg);
+}
+
+mesh *cli_read_one(const char *path)
+{
+	FILE *f = cli_open(path);
+	long line = 0;
+	mesh *m;
+	if (!cli_read_mesh(f, path, &line, &m))
+		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(path));
+	if (f != stdin)
+		fclose(f);
+	return m;
+}
+
+void cli_write_mesh(const mesh *m)
+{
+	if (mesh_write(stdout, m) != MESH_OK)
+		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
+}
+
+void cli_history(mesh *m, int argc, char *const argv[])
+{
+	if (mesh_history_argv(m, argc, argv) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
+}
+
+void cli_finish(void)
+{
+	if (fflush(stdout) != 0 || ferror(stdout) || fclose(stdout) != 0)
+		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
+	exit(0);
+}
+
+static void on_signal(int sig)
+{
+	(void)sig;
+	cli_stop = 1;
+}
+
+void cli_catch_signals(void)
+{
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_signal;
+	sigemptyset(&sa.sa_mask);
+	sigaction(SIGINT, &sa, NULL);
+	sigaction(SIGTERM, &sa, NULL);
+}

@@ -1,0 +1,63 @@
+/* cli.h - the plumbing every tis program shares: messages, option values,
+ * mesh input and output, exit codes.  Not part of libmesh because it prints
+ * and exits, which the library never does. */
+#ifndef TIS_CLI_H
+#define TIS_CLI_H
+
+#include <signal.h>
+#include <stdio.h>
+#include "mesh.h"
+
+enum { EXIT_INPUT = 1, EXIT_USAGE = 2, EXIT_NOCONV = 3 };
+
+/* Program name (for messages) and the one-line usage synopsis. */
+void cli_init(const char *name, const char *usage);
+extern const char *cli_name;
+
+/* "tis-foo: message" on stderr, then exit with status. */
+_Noreturn void cli_die(int status, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+/* A message on stderr without exiting. */
+void cli_warn(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Bad usage: the message, the usage line, exit 2. */
+_Noreturn void cli_usage_error(const char *fmt, ...)
+	__attribute__((format(printf, 1, 2)));
+
+/* getopt_long returned '?' or ':' (use an optstring that starts with ':'):
+ * a usage error naming the option. */
+_Noreturn void cli_bad_option(char *const argv[], int c);
+
+/* Print text (the full help) to stdout and exit 0; print the version. */
+_Noreturn void cli_help(const char *text);
+_Noreturn void cli_version(void);
+
+/* Option values: the whole argument must be a finite number (or an integer
+ * within [lo, hi]); otherwise a usage error naming the option. */
+double cli_double(const char *opt, const char *arg);
+double cli_double_range(const char *opt, const char *arg, double lo, double hi);
+long cli_long(const char *opt, const char *arg, long lo, long hi);
+
+/* Open a mesh input: NULL or "-" is stdin.  Exit 1 if it cannot be opened. */
+FILE *cli_open(const char *path);
+/* The name to use for an input in messages. */
+const char *cli_input_name(const char *path);
+
+/* Read the next mesh: 1 and *m set, 0 at the end of the stream; exit 1 with
+ * "tis-foo: NAME:LINE: message" on bad input. */
+int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m);
+/* Read exactly one mesh (the first of the stream); exit 1 if there is none. */
+mesh *cli_read_one(const char *path);
+/* Write a mesh to stdout; exit 1 on a write error. */
+void cli_write_mesh(const mesh *m);
+/* Add the command line as a history line; exit 1 if out of memory. */
+void cli_history(mesh *m, int argc, char *const argv[]);
+
+/* Close stdout and exit 0, or exit 1 on a write error. */
+_Noreturn void cli_finish(void);
+
+/* SIGINT and SIGTERM set cli_stop instead of killing the program, so long
+ * runs can finish what they are writing. */
+extern volatile sig_atomic_t cli_stop;
+void cli_catch_signals(void);
+
+#endif
