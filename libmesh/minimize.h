@@ -1,0 +1,62 @@
+/* minimize.h - energy minimization at fixed topology.
+ *
+ * min_run() minimizes any smooth function of n variables with its gradient
+ * (the relaxation of a mesh, or the constrained sweeps of tis-forcelen that
+ * hold one junction's length by a parametrization).  Convergence is judged
+ * on forces (the gradient), never on energy change alone: minimizers whose
+ * line search compares energies stall at rounding level, long before the
+ * forces are small (see DESIGN.md, "Numerical traps").
+ */
+#ifndef TIS_MINIMIZE_H
+#define TIS_MINIMIZE_H
+
+#include "geom.h"
+#include "mesh.h"
+
+typedef enum {
+	MIN_LBFGS,       /* NLopt L-BFGS */
+	MIN_FIRE,        /* FIRE (Bitzek et al. 2006), force-only */
+	MIN_GSL_BFGS2,   /* GSL multimin vector_bfgs2 */
+	MIN_NALGO
+} min_algo;
+
+/* Objective: value at x; gradient into grad (never NULL here). */
+typedef double (*min_func)(const double *x, double *grad, void *data);
+
+/* The force measure convergence is judged on; the default (NULL) is the
+ * largest Euclidean norm of consecutive pairs (grad[2i], grad[2i+1]), the
+ * largest vertex force when x holds vertex coordinates. */
+typedef double (*min_gnorm)(int n, const double *grad, void *data);
+
+typedef struct {
+	min_algo algo;
+	double ftol;       /* converged when the force measure <= ftol */
+	long maxeval;      /* at most this many objective evaluations */
+	min_gnorm gnorm;   /* NULL: largest vertex force */
+} min_opts;
+
+typedef struct {
+	long neval;        /* objective evaluations */
+	long niter;        /* iterations, as the method counts them */
+	double f0, f;      /* initial and final objective */
+	double gnorm;      /* final force measure */
+} min_report;
+
+/* Defaults: MIN_LBFGS, ftol 1e-10, maxeval 100000, gnorm NULL. */
+void min_opts_init(min_opts *o);
+
+/* Name <-> algorithm ("lbfgs", "fire", "bfgs2"); parse returns 0 if unknown. */
+const char *min_algo_name(min_algo a);
+int min_algo_parse(const char *name, min_algo *a);
+
+/* Minimize f from x (n variables) in place.  On return x holds the best
+ * point found (never a point with a higher objective than the start).
+ * MESH_OK when the force measure reached ftol, MESH_ENOCONV otherwise (rep
+ * says how far it got), MESH_ENOMEM, MESH_EDOM for bad options. */
+int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
+            min_report *rep);
+
+/* Relax all vertex positions of m to the nearest minimum of W at p. */
+int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep);
+
+#endif
