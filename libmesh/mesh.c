@@ -605,7 +605,7 @@ typedef struct {
 	size_t cap;
 	char *tok[8];
 	int ntok;
-	char *rest;        /* text after the first token, for history */
+	char *rest;        /* the text of a history line */
 } reader;
 
 /* Next line that is neither blank nor a comment, split into up to 8
@@ -632,12 +632,20 @@ static int next_line(reader *rd)
 			continue;
 		rd->ntok = 0;
 		rd->rest = NULL;
+		if (strncmp(s, "history", 7) == 0 && (s[7] == ' ' || s[7] == '\t')) {
+			/* history text is kept verbatim, not split into tokens */
+			rd->tok[0] = s;
+			s[7] = '\0';
+			rd->rest = s + 8;
+			while (*rd->rest == ' ' || *rd->rest == '\t')
+				rd->rest++;
+			rd->ntok = 2;
+			return 1;
+		}
 		while (*s) {
 			char *t = s;
 			while (*s && *s != ' ' && *s != '\t')
 				s++;
-			if (rd->ntok == 1 && rd->rest == NULL)
-				rd->rest = t;
 			if (rd->ntok < 8)
 				rd->tok[rd->ntok] = t;
 			rd->ntok++;
@@ -753,6 +761,8 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 		L = *rd->line;
 		if (rd->ntok < 0)
 			BAD("line contains a NUL byte");
+		if (strcmp(rd->tok[0], "cells") == 0)
+			BAD("'cells' after %d vertices, but 'vertices' says %d", v, m->nv);
 		if (rd->ntok != 2)
 			BAD("vertex %d: expected 'X Y', got %d fields", v, rd->ntok);
 		if (!grow((void **)&m->r, &rcap, 2 * (size_t)v + 2, sizeof *m->r))
@@ -778,6 +788,8 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 		if (rd->ntok < 0)
 			BAD("line contains a NUL byte");
 		int ns;
+		if (strcmp(rd->tok[0], "end") == 0 || strcmp(rd->tok[0], "junctions") == 0)
+			BAD("'%s' after %d cells, but 'cells' says %d", rd->tok[0], k, m->nc);
 		if (!parse_int(rd->tok[0], 0, INT_MAX, &ns))
 			BAD("cell %d: expected the number of sides, got '%.40s'", k, rd->tok[0]);
 		if (ns < 3)

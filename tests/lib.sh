@@ -12,12 +12,14 @@ diag() { printf '# %s\n' "$@"; }
 # ok DESCRIPTION COMMAND...: passes when the command succeeds.
 ok() { d=$1; shift; if "$@"; then pass "$d"; else fail "$d"; fi; }
 # fails_with STATUS DESCRIPTION COMMAND...: the command must exit with
-# STATUS and write exactly one line to stderr, and no crash (status >= 128
-# or a sanitizer report) is accepted.
+# STATUS and write exactly one line to stderr (exit 2: a message and a usage
+# line), and no crash (status >= 128 or a sanitizer report) is accepted.
 fails_with() {
 	want=$1 d=$2; shift 2
 	"$@" >"$T/out" 2>"$T/err"; st=$?
 	lines=$(wc -l <"$T/err")
+	# usage errors add the usage line and a hint after the message
+	[ "$want" -eq 2 ] && grep -q '^usage: ' "$T/err" && lines=1
 	if [ "$st" -eq "$want" ] && [ "$lines" -eq 1 ] && ! grep -q Sanitizer "$T/err"; then
 		pass "$d"
 	else

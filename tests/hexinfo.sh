@@ -1,0 +1,43 @@
+#!/bin/sh
+# tis-hex and tis-info on real pipes: counts, energy, checks, usage errors.
+. "$(dirname "$0")/lib.sh"
+plan 22
+
+tis-hex 18 18 >"$T/h.mesh"
+ok "tis-hex 18 18 | tis-info --check passes" sh -c "tis-hex 18 18 | tis-info --check"
+tis-info "$T/h.mesh" >"$T/info"
+val() { awk -v k="$1" '$1 == k { print $2; exit }' "$T/info"; }
+ok "648 vertices, 324 cells, 972 junctions" \
+	test "$(val vertices) $(val cells) $(val junctions)" = "648 324 972"
+ok "all hexagons: f6 = 1" test "$(val f6)" = "1.000000"
+ok "area sum is the box area" test "$(val area_sum)" = "324"
+phex=3.7224194364083982
+for p0 in 3.5 3.7 3.9; do
+	tis-info --p0 $p0 "$T/h.mesh" >"$T/info"
+	want=$(awk -v p=$p0 -v h=$phex 'BEGIN { printf "%.12g", 324 * (h - p)^2 }')
+	ok "energy at p0 $p0 is 324 (p_hex - p0)^2 = $want" near "$(val energy)" "$want" 1e-9
+done
+tis-hex --p0 3.7 --ka 10 4 4 | tis-info >"$T/info"
+ok "params in the mesh set the energy" near "$(val energy)" "$(awk -v h=$phex 'BEGIN { printf "%.15g", 16 * (h - 3.7)^2 }')" 1e-12
+ok "history records the command" sh -c "tis-hex --p0 3.7 4 4 | grep -qx 'history tis-hex --p0 3.7 4 4'"
+cat "$T/h.mesh" "$T/h.mesh" "$T/h.mesh" | tis-info --tsv >"$T/tsv"
+ok "--tsv: a header and one row per frame" test "$(grep -c '^#' "$T/tsv") $(grep -vc '^#' "$T/tsv")" = "1 3"
+ok "file argument and stdin '-' agree" sh -c "tis-info '$T/h.mesh' >'$T/a' && tis-info - <'$T/h.mesh' >'$T/b' && cmp -s '$T/a' '$T/b'"
+ok "--help to stdout, exit 0" sh -c "tis-hex --help | grep -q '^usage: tis-hex'"
+ok "--version" sh -c "tis-info --version | grep -q '^tis-info (tis) '"
+
+fails_with 2 "tis-hex: odd NY" tis-hex 4 3
+fails_with 2 "tis-hex: missing argument" tis-hex 4
+fails_with 2 "tis-hex: non-numeric" tis-hex four 4
+fails_with 2 "tis-hex: unknown option" tis-hex --frobnicate 4 4
+fails_with 2 "tis-hex: NaN p0" tis-hex --p0 nan 4 4
+fails_with 2 "tis-info: unknown option" tis-info --bogus
+fails_with 2 "tis-info: two files" tis-info a b
+fails_with 1 "tis-info: missing file" tis-info "$T/nonexistent"
+# A write error (stdout on a full device) is reported, not ignored.
+if [ -w /dev/full ]; then
+	fails_with 1 "tis-hex: write error is an error" sh -c 'tis-hex 18 18 >/dev/full'
+else
+	pass "# skip no /dev/full"
+fi
+done_testing

@@ -1,0 +1,143 @@
+/* The tismesh 1 reader and writer: exact round trips, streams, tensions,
+ * params and history, wrapping, copies. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "geom.h"
+#include "lattice.h"
+#include "tap.h"
+
+static char *write_str(const mesh *m, size_t *len)
+{
+	char *buf = NULL;
+	FILE *f = open_memstream(&buf, len);
+	mesh_write(f, m);
+	fclose(f);
+	return buf;
+}
+
+static mesh *read_str(const char *s, long *line, int *st, mesh_error *err)
+{
+	FILE *f = fmemopen((void *)s, strlen(s), "r");
+	mesh *m = NULL;
+	*st = mesh_read(f, line, &m, err);
+	fclose(f);
+	return m;
+}
+
+int main(void)
+{
+	tap_plan(16);
+	mesh *m;
+	mesh_error err;
+	lattice_honeycomb(6, 4, &m, &err);
+	/* Coordinates with all 17 digits in play, some outside the box. */
+	unsigned s = 12345;
+	for (int i = 0; i < 2 * m->nv; i++) {
+		s = s * 1103515245u + 12345u;
+		m->r[i] += 0.03 * (((s >> 8) & 0xffff) / 32768.0 - 1.0) + (i % 7 == 0 ? (i % 2 ? -m->ly : m->lx) : 0);
+	}
+	/* moving vertices by box multiples changes the junction images */
+	if (mesh_build(m, NULL, &err) != MESH_OK) {
+		diag("%s", err.msg);
+		return 1;
+	}
+	mesh_param_set(m, "p0", 3.7);
+	mesh_param_set(m, "ka", 1.0 / 3.0);
+	mesh_history_add(m, "tis-hex 6 4 # a hash is text here");
+	mesh_tension_alloc(m);
+	m->dg[3] = 0.1;
+	m->dg[7] = -1e-300;
+
+	size_t n1, n2;
+	char *a = write_str(m, &n1);
+	long line = 0;
+	int st;
+	mesh *b = read_str(a, &line, &st, &err);
+	ok(st == MESH_OK, "written mesh reads back (%s)", st ? err.msg : "ok");
+	char *c = write_str(b, &n2);
+	ok(n1 == n2 && memcmp(a, c, n1) == 0, "read and written again: byte-identical");
+	int same = 1;
+	for (int i = 0; i < 2 * m->nv; i++) {
+		double w = i % 2 ? m->ly : m->lx;
+		double x = m->r[i] - w * floor(m->r[i] / w);
+		same &= b->r[i] == x;
+	}
+	ok(same, "coordinates read back exactly (wrapped into the box)");
+	double v;
+	ok(mesh_param_get(b, "ka", &v) && v == 1.0 / 3.0, "params exact");
+	ok(b->nhist == 1 && strcmp(b->hist[0], "tis-hex 6 4 # a hash is text here") == 0,
+	   "history text kept, '#' included");
+	ok(b->dg && b->dg[3] == 0.1 && b->dg[7] == -1e-300 && b->dg[0] == 0, "tensions kept");
+
+	/* Energy is the same before and after (wrapping moves nothing physical). */
+	model p = { 3.7, 100 };
+	energy_ws *w = energy_ws_alloc(m);
+	double e1 = mesh_energy(m, m->r, &p, NULL, w), e2 = mesh_energy(b, b->r, &p, NULL, w);
+	is_near(e2, e1, 1e-12 * e1, "energy unchanged through the round trip");
+	energy_ws_free(w);
+
+	/* A stream of three frames, with comments and blank lines between. */
+	size_t total = 3 * n1 + 64;
+	char *stream = malloc(total);
+	snprintf(stream, total, "# frames\n%s\n\n%s# between\n%s", a, a, a);
+	FILE *f = fmemopen(stream, strlen(stream), "r");
+	int frames = 0;
+	line = 0;
+	mesh *t;
+	while ((st = mesh_read(f, &line, &t, &err)) == MESH_OK) {
+		frames++;
+		mesh_free(t);
+	}
+	fclose(f);
+	ok(frames == 3 && st == MESH_EOF, "three frames, then a clean end of stream");
+	/* The error line counts across frames. */
+	char *bad = malloc(total);
+	snprintf(bad, total, "%s%s", a, a);
+	char *second = bad + n1;
+	char *nl = second;
+	for (int k = 0; k < 4; k++)
+		nl = strchr(nl, '\n') + 1; /* line 5 of frame 2: first vertex */
+	memcpy(nl, "nan", 3);
+	f = fmemopen(bad, strlen(bad), "r");
+	line = 0;
+	mesh_read(f, &line, &t, &err);
+	mesh_free(t);
+	int lines1 = 0;
+	for (const char *q = a; *q; q++)
+		lines1 += *q == '\n';
+	st = mesh_read(f, &line, &t, &err);
+	fclose(f);
+	ok(st == MESH_EINVAL && err.line == lines1 + 5, "error line %ld counts across frames (want %d)",
+	   err.line, lines1 + 5);
+
+	mesh *cp = mesh_copy(b);
+	char *d = write_str(cp, &n2);
+	ok(cp && n2 == n1 && memcmp(a, d, n1) == 0, "mesh_copy writes identically");
+
+	/* mesh_build after a no-op keeps tensions by vertex pair. */
+	ok(mesh_build(cp, NULL, &err) == MESH_OK && cp->dg[3] == 0.1, "rebuild keeps tensions");
+
+	int j = mesh_junction_find(b, b->jv[10], b->jv[11]);
+	ok(j == 5 && mesh_junction_find(b, b->jv[11], b->jv[10]) == 5,
+	   "junction lookup in both orders");
+	ok(mesh_junction_find(b, 0, 0) == -1, "no junction from a vertex to itself");
+
+	/* The 2x2 honeycomb: each pair of cells shares two junctions. */
+	mesh *h;
+	ok(lattice_honeycomb(2, 2, &h, &err) == MESH_OK && h->nj == 12,
+	   "2x2 honeycomb is a valid tissue");
+	mesh_free(h);
+	ok(lattice_honeycomb(3, 3, &h, &err) == MESH_EDOM, "odd ny refused");
+	ok(lattice_honeycomb(1, 2, &h, &err) == MESH_EDOM, "nx = 1 refused");
+
+	free(a);
+	free(c);
+	free(d);
+	free(stream);
+	free(bad);
+	mesh_free(m);
+	mesh_free(b);
+	mesh_free(cp);
+	return tap_done();
+}
