@@ -87,9 +87,16 @@ void energy_ws_free(energy_ws *w)
  *   dW/dr_b = +(Pw_L + Pw_R) u + (Aw_L - Aw_R) perp(d)/2,
  *   dW/dr_a = -(Pw_L + Pw_R) u + (Aw_L - Aw_R) perp(d)/2,
  * with Pw = 2 (P - p0), Aw = 2 ka (A - 1) and perp(d) = (dy, -dx), because
- * each polygon side adds perp(d)/2 to dA/dr of both its end points. */
+ * each polygon side adds perp(d)/2 to dA/dr of both its end points.  A
+ * junction tension dg adds to the line tension Pw_L + Pw_R: same pass. */
 double mesh_energy(const mesh *m, const double *r, const model *p,
                    double *grad, energy_ws *w)
+{
+	return mesh_energy_tension(m, r, p, NULL, grad, w);
+}
+
+double mesh_energy_tension(const mesh *m, const double *r, const model *p,
+                           const double *dg, double *grad, energy_ws *w)
 {
 	const int nj = m->nj, nc = m->nc;
 	const int *restrict jv = m->jv;
@@ -138,7 +145,7 @@ double mesh_energy(const mesh *m, const double *r, const model *p,
 		int a = jv[2 * j], b = jv[2 * j + 1];
 		int L = jc[2 * j], R = jc[2 * j + 1];
 		double dx = jd[3 * j], dy = jd[3 * j + 1], l = jd[3 * j + 2];
-		double t = (cc[2 * L + 1] + cc[2 * R + 1]) / l;
+		double t = (cc[2 * L + 1] + cc[2 * R + 1] + (dg ? dg[j] : 0.0)) / l;
 		double h = 0.5 * (cc[2 * L] - cc[2 * R]);
 		double px = h * dy, py = -h * dx;
 		double tx = t * dx, ty = t * dy;

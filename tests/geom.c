@@ -50,7 +50,7 @@ static double fd_error(const mesh *m, const model *p, double h)
 
 int main(void)
 {
-	tap_plan(17);
+	tap_plan(18);
 	mesh *m;
 	mesh_error err;
 	ok(lattice_honeycomb(18, 18, &m, &err) == MESH_OK, "18x18 honeycomb builds");
@@ -102,6 +102,31 @@ int main(void)
 		s->r[2 * v] += 0.3 * s->lx;
 	double e = fd_error(s, &p, 1e-6);
 	ok(e < 1e-7, "irregular 4x4 tissue, shifted across the box: gradient error %.2e", e);
+	/* Junction tensions: gradient of W + sum dg_j l_j against differences. */
+	{
+		energy_ws *tw = energy_ws_alloc(s);
+		int n = 2 * s->nv;
+		double *dg = malloc(s->nj * sizeof *dg), *ga = malloc(n * sizeof *ga);
+		for (int j = 0; j < s->nj; j++)
+			dg[j] = 0.3 * sin(1.7 * j);
+		mesh_energy_tension(s, s->r, &p, dg, ga, tw);
+		double emax = 0, h = 1e-6;
+		for (int i = 0; i < n; i++) {
+			double x0 = s->r[i], f[2];
+			for (int q = 0; q < 2; q++) {
+				s->r[i] = x0 + (q ? -h : h);
+				f[q] = mesh_energy(s, s->r, &p, NULL, tw);
+				for (int j = 0; j < s->nj; j++)
+					f[q] += dg[j] * junction_length(s, s->r, j);
+			}
+			s->r[i] = x0;
+			emax = fmax(emax, fabs((f[0] - f[1]) / (2 * h) - ga[i]));
+		}
+		ok(emax < 1e-7, "gradient with junction tensions vs finite differences %.2e", emax);
+		free(dg);
+		free(ga);
+		energy_ws_free(tw);
+	}
 	/* Energy does not care where the box edge is. */
 	energy_ws *ws = energy_ws_alloc(s);
 	double W1 = mesh_energy(s, s->r, &p, NULL, ws);
