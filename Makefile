@@ -49,7 +49,7 @@ PROGS = $(PROGS_SRC:tools/%.c=$(O)bin/%)
 
 UNIT_SRC = $(sort $(wildcard tests/*.c))
 UNITS = $(UNIT_SRC:tests/%.c=$(O)tests/%.test)
-SHELL_TESTS = $(sort $(wildcard tests/*.sh))
+SHELL_TESTS = $(filter-out tests/lib.sh,$(sort $(wildcard tests/*.sh)))
 
 MAN1 = $(wildcard man/*.1)
 MAN5 = $(wildcard man/*.5)

@@ -14,14 +14,21 @@
 #include "mesh.h"
 
 typedef enum {
-	MIN_LBFGS,       /* NLopt L-BFGS */
-	MIN_FIRE,        /* FIRE (Bitzek et al. 2006), force-only */
+	MIN_LBFGS,       /* NLopt L-BFGS (restarted while it makes progress) */
+	MIN_FIRE,        /* FIRE 2.0 (Bitzek et al. 2006, Guenole et al. 2020), force-only */
 	MIN_GSL_BFGS2,   /* GSL multimin vector_bfgs2 */
+	MIN_NEWTON,      /* Newton-CG on Hessian-vector products, force-judged steps */
+	MIN_TNEWTON,     /* NLopt preconditioned truncated Newton with restarts */
+	MIN_VAR2,        /* NLopt shifted limited-memory variable metric, rank 2 */
 	MIN_NALGO
 } min_algo;
 
 /* Objective: value at x; gradient into grad (never NULL here). */
 typedef double (*min_func)(const double *x, double *grad, void *data);
+
+/* hv = H(x) v, the Hessian of the objective times v (n values each). */
+typedef void (*min_hessvec)(const double *x, const double *v, double *hv,
+                            void *data);
 
 /* The force measure convergence is judged on; the default (NULL) is the
  * largest Euclidean norm of consecutive pairs (grad[2i], grad[2i+1]), the
@@ -33,6 +40,11 @@ typedef struct {
 	double ftol;       /* converged when the force measure <= ftol */
 	long maxeval;      /* at most this many objective evaluations */
 	min_gnorm gnorm;   /* NULL: largest vertex force */
+	int polish;        /* when the method stops short of ftol, finish with
+	                      MIN_NEWTON (energy-based line searches stall at
+	                      rounding level; Newton steps judged on forces go on) */
+	min_hessvec hessvec; /* for MIN_NEWTON and the polish; NULL: central
+	                      differences of the gradient (step 1e-5) */
 } min_opts;
 
 typedef struct {
@@ -40,23 +52,33 @@ typedef struct {
 	long niter;        /* iterations, as the method counts them */
 	double f0, f;      /* initial and final objective */
 	double gnorm;      /* final force measure */
+	long nhessvec;     /* Hessian-vector products (Newton-CG) */
+	long npolish;      /* Newton iterations of the polish (0: not needed) */
 } min_report;
 
-/* Defaults: MIN_LBFGS, ftol 1e-10, maxeval 100000, gnorm NULL. */
+/* Defaults: MIN_LBFGS with polish, ftol 1e-10, maxeval 100000, gnorm and
+ * hessvec NULL.  maxeval bounds objective evaluations plus Hessian-vector
+ * products together. */
 void min_opts_init(min_opts *o);
 
-/* Name <-> algorithm ("lbfgs", "fire", "bfgs2"); parse returns 0 if unknown. */
+/* Name <-> algorithm ("lbfgs", "fire", "bfgs2", "newton", "tnewton",
+ * "var2"); parse returns 0 if unknown. */
 const char *min_algo_name(min_algo a);
 int min_algo_parse(const char *name, min_algo *a);
 
 /* Minimize f from x (n variables) in place.  On return x holds the best
- * point found (never a point with a higher objective than the start).
+ * point found: never one with a higher objective than the start, up to
+ * rounding (1e-13 (1 + |f0|), below which energies cannot be compared).
  * MESH_OK when the force measure reached ftol, MESH_ENOCONV otherwise (rep
  * says how far it got), MESH_ENOMEM, MESH_EDOM for bad options. */
 int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
             min_report *rep);
 
-/* Relax all vertex positions of m to the nearest minimum of W at p. */
+/* Relax all vertex positions of m to the nearest minimum of W at p, with
+ * the analytic Hessian for Newton steps (o->hessvec is ignored).  The
+ * topology is unchanged; coordinates are wrapped into the box at the end.
+ * Status as min_run, and MESH_EINVAL (m unchanged) if the result would have
+ * a cell of non-positive area. */
 int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep);
 
 #endif
