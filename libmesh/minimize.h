@@ -56,7 +56,8 @@ typedef struct {
 	long npolish;      /* Newton iterations of the polish (0: not needed) */
 } min_report;
 
-/* Defaults: MIN_LBFGS with polish, ftol 1e-10, maxeval 100000, gnorm and
+/* Defaults: MIN_NEWTON (fastest to every force level in bench/relax.sh,
+ * see bench/results-relax.md) with polish, ftol 1e-10, maxeval 100000, gnorm and
  * hessvec NULL.  maxeval bounds objective evaluations plus Hessian-vector
  * products together. */
 void min_opts_init(min_opts *o);

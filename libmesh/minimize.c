@@ -1,0 +1,590 @@
+/* minimize.c - minimization at fixed topology: NLopt and GSL quasi-Newton
+ * methods, FIRE, and a Newton-CG stage judged on forces that finishes what
+ * energy-based line searches cannot (they stall once energy differences
+ * are at rounding level, near max force 1e-7 for a 324-cell tissue). */
+#include "minimize.h"
+#include "hessian.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_multimin.h>
+#include <nlopt.h>
+
+static const char *const algo_names[MIN_NALGO] = {
+	[MIN_LBFGS] = "lbfgs",
+	[MIN_FIRE] = "fire",
+	[MIN_GSL_BFGS2] = "bfgs2",
+	[MIN_NEWTON] = "newton",
+	[MIN_TNEWTON] = "tnewton",
+	[MIN_VAR2] = "var2",
+};
+
+void min_opts_init(min_opts *o)
+{
+	*o = (min_opts){ .algo = MIN_NEWTON, .ftol = 1e-10, .maxeval = 100000,
+	                 .gnorm = NULL, .polish = 1, .hessvec = NULL };
+}
+
+const char *min_algo_name(min_algo a)
+{
+	return (a >= 0 && a < MIN_NALGO) ? algo_names[a] : "unknown";
+}
+
+int min_algo_parse(const char *name, min_algo *a)
+{
+	for (int i = 0; i < MIN_NALGO; i++)
+		if (strcmp(name, algo_names[i]) == 0) {
+			*a = (min_algo)i;
+			return 1;
+		}
+	return 0;
+}
+
+/* The state every stage shares.  Each objective evaluation goes through
+ * eval(), which keeps the lowest point seen and the first point that meets
+ * the force tolerance, so no stage has to get its bookkeeping right. */
+typedef struct {
+	int n;
+	min_func f;
+	void *data;
+	const min_opts *o;
+	double f0, slack;
+	long neval, nhv, niter, npolish;
+	double *g;                    /* gradient for callers that pass none */
+	double *xbest, fbest, gbest;  /* lowest objective seen */
+	double *xconv, fconv, gconv;  /* first point with force <= ftol */
+	int conv;
+	double fcur, gcur;            /* objective and force where a stage ended */
+	double *w1, *w2, *w3;         /* finite-difference Hessian scratch */
+	nlopt_opt nl;
+} ctx;
+
+static double dot(int n, const double *a, const double *b)
+{
+	double s = 0;
+	for (int i = 0; i < n; i++)
+		s += a[i] * b[i];
+	return s;
+}
+
+/* Largest Euclidean norm of consecutive pairs (a lone last value counts
+ * alone): the largest vertex force, or the largest vertex move. */
+static double pair_max(int n, const double *v)
+{
+	double m2 = 0;
+	for (int i = 0; i + 1 < n; i += 2) {
+		double q = v[i] * v[i] + v[i + 1] * v[i + 1];
+		if (q > m2)
+			m2 = q;
+	}
+	if (n % 2 && v[n - 1] * v[n - 1] > m2)
+		m2 = v[n - 1] * v[n - 1];
+	return sqrt(m2);
+}
+
+static double force_of(const ctx *c, const double *g)
+{
+	double gn = c->o->gnorm ? c->o->gnorm(c->n, g, c->data) : pair_max(c->n, g);
+	return isfinite(gn) ? gn : HUGE_VAL;
+}
+
+static int budget_left(const ctx *c)
+{
+	return c->neval + c->nhv < c->o->maxeval;
+}
+
+static double eval(ctx *c, const double *x, double *g, double *gn_out)
+{
+	double f = c->f(x, g, c->data);
+	c->neval++;
+	if (!isfinite(f))
+		f = HUGE_VAL;
+	double gn = force_of(c, g);
+	if (f < c->fbest) {
+		c->fbest = f;
+		c->gbest = gn;
+		memcpy(c->xbest, x, c->n * sizeof *x);
+	}
+	if (!c->conv && gn <= c->o->ftol && f <= c->f0 + c->slack) {
+		c->conv = 1;
+		c->fconv = f;
+		c->gconv = gn;
+		memcpy(c->xconv, x, c->n * sizeof *x);
+	}
+	if (gn_out)
+		*gn_out = gn;
+	return f;
+}
+
+/* Leave x at the lowest point seen (for methods that return their best). */
+static void end_at_best(ctx *c, double *x)
+{
+	memcpy(x, c->xbest, c->n * sizeof *x);
+	c->fcur = c->fbest;
+	c->gcur = c->gbest;
+}
+
+/* ---- NLopt ---- */
+
+#ifndef NLOPT_MEMORY
+#define NLOPT_MEMORY 5
+#endif
+
+static double nl_obj(unsigned n, const double *x, double *grad, void *data)
+{
+	(void)n;
+	ctx *c = data;
+	double f = eval(c, x, grad ? grad : c->g, NULL);
+	if (c->conv || !budget_left(c))
+		nlopt_force_stop(c->nl);
+	return f;
+}
+
+/* NLopt stops with ROUNDOFF_LIMITED (or FAILURE) when its line search can
+ * no longer see the energy go down; a fresh start (new curvature memory,
+ * new first step) sometimes goes on, so restart while that halves the force
+ * at the best point. */
+static int stage_nlopt(ctx *c, double *x, nlopt_algorithm alg)
+{
+	nlopt_opt nl = nlopt_create(alg, (unsigned)c->n);
+	if (nl == NULL)
+		return MESH_ENOMEM;
+	c->nl = nl;
+	nlopt_set_min_objective(nl, nl_obj, c);
+	/* No stopping on small energy or step changes: only forces decide. */
+	nlopt_set_ftol_rel(nl, 0);
+	nlopt_set_ftol_abs(nl, 0);
+	nlopt_set_xtol_rel(nl, 0);
+	/* NLopt's default memory for the Luksan methods is about 4e6/n vectors
+	 * (3000 for a 324-cell tissue), which makes each iteration cost
+	 * milliseconds; a short memory is what "limited" means. */
+	nlopt_set_vector_storage(nl, NLOPT_MEMORY);
+	double gprev = HUGE_VAL;
+	for (int restart = 0; restart < 20 && !c->conv && budget_left(c); restart++) {
+		long before = c->neval;
+		nlopt_set_maxeval(nl, (int)fmin(c->o->maxeval - c->neval - c->nhv, 2e9));
+		double fx;
+		nlopt_result r = nlopt_optimize(nl, x, &fx);
+		c->niter += c->neval - before;
+		memcpy(x, c->xbest, c->n * sizeof *x);
+		if (r == NLOPT_OUT_OF_MEMORY) {
+			nlopt_destroy(nl);
+			return MESH_ENOMEM;
+		}
+		if (r == NLOPT_FORCED_STOP || r == NLOPT_MAXEVAL_REACHED ||
+		    r == NLOPT_INVALID_ARGS || !(c->gbest < 0.5 * gprev))
+			break;
+		gprev = c->gbest;
+	}
+	nlopt_destroy(nl);
+	end_at_best(c, x);
+	return MESH_OK;
+}
+
+/* ---- GSL multimin BFGS2 ---- */
+
+static double gsl_f(const gsl_vector *x, void *data)
+{
+	ctx *c = data;
+	return eval(c, x->data, c->g, NULL);
+}
+
+static void gsl_df(const gsl_vector *x, void *data, gsl_vector *g)
+{
+	eval(data, x->data, g->data, NULL);
+}
+
+static void gsl_fdf(const gsl_vector *x, void *data, double *f, gsl_vector *g)
+{
+	*f = eval(data, x->data, g->data, NULL);
+}
+
+static int stage_bfgs2(ctx *c, double *x)
+{
+	gsl_multimin_function_fdf fdf = { gsl_f, gsl_df, gsl_fdf, (size_t)c->n, c };
+	gsl_multimin_fdfminimizer *s =
+		gsl_multimin_fdfminimizer_alloc(gsl_multimin_fdfminimizer_vector_bfgs2, c->n);
+	gsl_vector *xv = gsl_vector_alloc(c->n);
+	if (s == NULL || xv == NULL) {
+		if (s)
+			gsl_multimin_fdfminimizer_free(s);
+		if (xv)
+			gsl_vector_free(xv);
+		return MESH_ENOMEM;
+	}
+	double gprev = HUGE_VAL;
+	for (int restart = 0; restart < 20 && !c->conv && budget_left(c); restart++) {
+		memcpy(xv->data, x, c->n * sizeof *x);
+		/* First trial step 0.01 (2-norm), line search tolerance 0.1 as
+		 * the GSL manual recommends for bfgs2. */
+		if (gsl_multimin_fdfminimizer_set(s, &fdf, xv, 0.01, 0.1) != GSL_SUCCESS)
+			break;
+		while (!c->conv && budget_left(c)) {
+			c->niter++;
+			if (gsl_multimin_fdfminimizer_iterate(s) != GSL_SUCCESS)
+				break;
+		}
+		memcpy(x, c->xbest, c->n * sizeof *x);
+		if (!(c->gbest < 0.5 * gprev))
+			break;
+		gprev = c->gbest;
+	}
+	gsl_multimin_fdfminimizer_free(s);
+	gsl_vector_free(xv);
+	end_at_best(c, x);
+	return MESH_OK;
+}
+
+/* ---- FIRE 2.0 ---- */
+
+/* Guenole et al., Comput. Mater. Sci. 175, 109584 (2020): semi-implicit
+ * Euler, unit masses, half-step back-off on uphill motion.  The time steps
+ * suit the vertex model (stiffest modes ~ ka = 100: stable dt ~ 0.1); the
+ * largest move of one vertex per step is capped so that no cell inverts
+ * while dt is still adapting. */
+static int stage_fire(ctx *c, double *x)
+{
+	const int n = c->n;
+	const double dt0 = 0.02, dtmax = 0.1, dtmin = 1e-4, finc = 1.1, fdec = 0.5;
+	const double a0 = 0.25, fa = 0.99, maxmove = 0.05;
+	const int ndelay = 20;
+	double *v = calloc(n, sizeof *v), *g = malloc(n * sizeof *g);
+	if (v == NULL || g == NULL) {
+		free(v);
+		free(g);
+		return MESH_ENOMEM;
+	}
+	double gn, f = eval(c, x, g, &gn), dt = dt0, a = a0;
+	long npos = 0, step = 0;
+	while (!c->conv && budget_left(c)) {
+		double P = -dot(n, g, v);
+		if (P > 0) {
+			if (++npos > ndelay) {
+				dt = fmin(dt * finc, dtmax);
+				a *= fa;
+			}
+		} else {
+			npos = 0;
+			if (step >= ndelay)
+				dt = fmax(dt * fdec, dtmin);
+			a = a0;
+			for (int i = 0; i < n; i++) {
+				x[i] -= 0.5 * dt * v[i];
+				v[i] = 0;
+			}
+		}
+		for (int i = 0; i < n; i++)
+			v[i] -= dt * g[i];
+		double vn = sqrt(dot(n, v, v)), fn = sqrt(dot(n, g, g));
+		if (fn > 0)
+			for (int i = 0; i < n; i++)
+				v[i] = (1 - a) * v[i] - a * vn / fn * g[i];
+		double mv = dt * pair_max(n, v);
+		double sc = mv > maxmove ? maxmove / mv : 1;
+		for (int i = 0; i < n; i++)
+			x[i] += sc * dt * v[i];
+		f = eval(c, x, g, &gn);
+		step++;
+	}
+	c->niter += step;
+	c->fcur = f;
+	c->gcur = gn;
+	free(v);
+	free(g);
+	return MESH_OK;
+}
+
+/* ---- Newton-CG ---- */
+
+static void hessvec(ctx *c, const double *x, const double *v, double *hv)
+{
+	const int n = c->n;
+	if (c->o->hessvec) {
+		c->nhv++;
+		c->o->hessvec(x, v, hv, c->data);
+		return;
+	}
+	/* Central differences along the unit vector: error ~ h^2 from the
+	 * third derivatives plus ~1e-12/h from gradient rounding. */
+	const double h = 1e-5;
+	double vn = sqrt(dot(n, v, v));
+	c->neval += 2;
+	if (vn == 0) {
+		memset(hv, 0, n * sizeof *hv);
+		return;
+	}
+	for (int i = 0; i < n; i++)
+		c->w1[i] = x[i] + h * v[i] / vn;
+	c->f(c->w1, c->w2, c->data);
+	for (int i = 0; i < n; i++)
+		c->w1[i] = x[i] - h * v[i] / vn;
+	c->f(c->w1, c->w3, c->data);
+	for (int i = 0; i < n; i++)
+		hv[i] = (c->w2[i] - c->w3[i]) * vn / (2 * h);
+}
+
+/* Truncated Newton: CG on H s = -g to a relative residual eta =
+ * min(0.5, sqrt|g|) (superlinear convergence), stopped at non-positive
+ * curvature (zero modes of a floppy tissue, or far from the minimum) or
+ * when the step leaves the trust box (no vertex moves more than smax).  A
+ * step is accepted on the Armijo condition, or, when energies are equal to
+ * rounding, when the force goes down: near the minimum the energy can no
+ * longer tell better from worse, the force still can. */
+static int stage_newton(ctx *c, double *xio)
+{
+	const int n = c->n;
+	const double smax = 0.1;
+	double *buf = malloc(7 * (size_t)n * sizeof *buf);
+	if (buf == NULL)
+		return MESH_ENOMEM;
+	double *x = buf, *g = x + n, *s = g + n, *r = s + n, *p = r + n;
+	double *hp = p + n, *xt = hp + n;
+	double *gt = malloc((size_t)n * sizeof *gt);
+	if (gt == NULL) {
+		free(buf);
+		return MESH_ENOMEM;
+	}
+	memcpy(x, xio, n * sizeof *x);
+	double gn, f = eval(c, x, g, &gn);
+	double gref = gn, fref = f;
+	int stall = 0;
+	long it = 0;
+	while (!c->conv && budget_left(c)) {
+		double g2 = dot(n, g, g);
+		double eta = fmin(0.5, sqrt(sqrt(g2)));
+		for (int i = 0; i < n; i++) {
+			s[i] = 0;
+			r[i] = p[i] = -g[i];
+		}
+		double rr = g2;
+		for (int k = 0; k < n + 10 && budget_left(c); k++) {
+			hessvec(c, x, p, hp);
+			double php = dot(n, p, hp);
+			if (!(php > 0)) {
+				if (k == 0)
+					memcpy(s, p, n * sizeof *s);
+				break;
+			}
+			double al = rr / php;
+			for (int i = 0; i < n; i++) {
+				s[i] += al * p[i];
+				r[i] -= al * hp[i];
+			}
+			if (pair_max(n, s) > smax)
+				break;
+			double rrn = dot(n, r, r);
+			if (sqrt(rrn) <= eta * sqrt(g2))
+				break;
+			for (int i = 0; i < n; i++)
+				p[i] = r[i] + rrn / rr * p[i];
+			rr = rrn;
+		}
+		double gs = dot(n, g, s);
+		if (!(gs < 0)) {
+			for (int i = 0; i < n; i++)
+				s[i] = -g[i];
+			gs = -g2;
+		}
+		double mv = pair_max(n, s);
+		if (mv > smax) {
+			for (int i = 0; i < n; i++)
+				s[i] *= smax / mv;
+			gs *= smax / mv;
+		}
+		int accepted = 0;
+		double ft = f, gnt = gn;
+		for (double al = 1; al > 1e-12 && budget_left(c); al *= 0.5) {
+			for (int i = 0; i < n; i++)
+				xt[i] = x[i] + al * s[i];
+			ft = eval(c, xt, gt, &gnt);
+			if (ft <= f + 1e-4 * al * gs || (ft <= f + c->slack && gnt < gn)) {
+				accepted = 1;
+				break;
+			}
+		}
+		if (!accepted)
+			break;
+		it++;
+		memcpy(x, xt, n * sizeof *x);
+		memcpy(g, gt, n * sizeof *g);
+		f = ft;
+		gn = gnt;
+		if (gn < 0.5 * gref || f < fref - c->slack) {
+			gref = gn;
+			fref = f;
+			stall = 0;
+		} else if (++stall >= 20) {
+			break;
+		}
+	}
+	memcpy(xio, x, n * sizeof *x);
+	c->fcur = f;
+	c->gcur = gn;
+	c->niter += it;
+	free(buf);
+	free(gt);
+	return MESH_OK;
+}
+
+/* ---- driver ---- */
+
+static int run_stage(ctx *c, double *x, min_algo a)
+{
+	switch (a) {
+	case MIN_LBFGS: return stage_nlopt(c, x, NLOPT_LD_LBFGS);
+	case MIN_TNEWTON: return stage_nlopt(c, x, NLOPT_LD_TNEWTON_PRECOND_RESTART);
+	case MIN_VAR2: return stage_nlopt(c, x, NLOPT_LD_VAR2);
+	case MIN_GSL_BFGS2: return stage_bfgs2(c, x);
+	case MIN_FIRE: return stage_fire(c, x);
+	case MIN_NEWTON: return stage_newton(c, x);
+	default: return MESH_EDOM;
+	}
+}
+
+int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
+            min_report *rep)
+{
+	min_opts def;
+	min_report dummy;
+	if (o == NULL) {
+		min_opts_init(&def);
+		o = &def;
+	}
+	if (rep == NULL)
+		rep = &dummy;
+	memset(rep, 0, sizeof *rep);
+	if (n <= 0 || x == NULL || f == NULL || o->algo < 0 || o->algo >= MIN_NALGO ||
+	    !(o->ftol >= 0) || !isfinite(o->ftol) || o->maxeval < 1)
+		return MESH_EDOM;
+
+	ctx c = { .n = n, .f = f, .data = data, .o = o };
+	size_t sz = (size_t)n * sizeof(double);
+	c.g = malloc(sz);
+	c.xbest = malloc(sz);
+	c.xconv = malloc(sz);
+	if (o->hessvec == NULL) {
+		c.w1 = malloc(sz);
+		c.w2 = malloc(sz);
+		c.w3 = malloc(sz);
+	}
+	int st = MESH_ENOMEM;
+	if (c.g == NULL || c.xbest == NULL || c.xconv == NULL ||
+	    (o->hessvec == NULL && (c.w1 == NULL || c.w2 == NULL || c.w3 == NULL)))
+		goto out;
+
+	c.f0 = f(x, c.g, data);
+	c.neval = 1;
+	c.gbest = force_of(&c, c.g);
+	st = MESH_EDOM;
+	if (!isfinite(c.f0))
+		goto out;
+	c.slack = 1e-13 * (1 + fabs(c.f0));
+	c.fbest = c.fcur = c.f0;
+	c.gcur = c.gbest;
+	memcpy(c.xbest, x, sz);
+	if (c.gbest <= o->ftol) {
+		c.conv = 1;
+		c.fconv = c.f0;
+		c.gconv = c.gbest;
+		memcpy(c.xconv, x, sz);
+	}
+	st = MESH_OK;
+	if (!c.conv)
+		st = run_stage(&c, x, o->algo);
+	if (st == MESH_OK && !c.conv && o->polish && o->algo != MIN_NEWTON &&
+	    budget_left(&c)) {
+		if (c.fcur > c.f0 + c.slack)
+			end_at_best(&c, x);
+		long before = c.niter;
+		st = stage_newton(&c, x);
+		c.npolish = c.niter - before;
+	}
+	if (st != MESH_OK)
+		goto out;
+
+	if (c.conv) {
+		memcpy(x, c.xconv, sz);
+		c.fcur = c.fconv;
+		c.gcur = c.gconv;
+	} else if (c.fcur > c.f0 + c.slack) {
+		end_at_best(&c, x);
+	}
+	st = c.conv ? MESH_OK : MESH_ENOCONV;
+out:
+	rep->neval = c.neval;
+	rep->niter = c.niter;
+	rep->nhessvec = c.nhv;
+	rep->npolish = c.npolish;
+	rep->f0 = c.f0;
+	rep->f = c.fcur;
+	rep->gnorm = c.gcur;
+	free(c.g);
+	free(c.xbest);
+	free(c.xconv);
+	free(c.w1);
+	free(c.w2);
+	free(c.w3);
+	return st;
+}
+
+/* ---- mesh relaxation ---- */
+
+typedef struct {
+	const mesh *m;
+	const model *p;
+	energy_ws *ew;
+	hessian_ws *hw;
+} relax_ctx;
+
+static double relax_f(const double *x, double *grad, void *data)
+{
+	relax_ctx *rc = data;
+	return mesh_energy(rc->m, x, rc->p, grad, rc->ew);
+}
+
+static void relax_hv(const double *x, const double *v, double *hv, void *data)
+{
+	relax_ctx *rc = data;
+	mesh_hessvec(rc->m, x, rc->p, v, hv, rc->hw);
+}
+
+int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
+{
+	min_opts oo;
+	if (o)
+		oo = *o;
+	else
+		min_opts_init(&oo);
+	oo.gnorm = NULL;
+	oo.hessvec = relax_hv;
+	if (rep)
+		memset(rep, 0, sizeof *rep);
+	if (!isfinite(p->p0) || !isfinite(p->ka) || p->ka < 0)
+		return MESH_EDOM;
+	if (m->nv == 0)
+		return MESH_OK;
+	relax_ctx rc = { .m = m, .p = p, .ew = energy_ws_alloc(m), .hw = hessian_ws_alloc(m) };
+	double *x = malloc(2 * (size_t)m->nv * sizeof *x);
+	int st = MESH_ENOMEM;
+	if (rc.ew && rc.hw && x) {
+		memcpy(x, m->r, 2 * (size_t)m->nv * sizeof *x);
+		st = min_run(2 * m->nv, x, relax_f, &rc, &oo, rep);
+		if (st == MESH_OK || st == MESH_ENOCONV) {
+			for (int k = 0; k < m->nc; k++)
+				if (!(cell_area(m, x, k) > 0)) {
+					st = MESH_EINVAL;
+					break;
+				}
+			if (st != MESH_EINVAL) {
+				memcpy(m->r, x, 2 * (size_t)m->nv * sizeof *x);
+				mesh_wrap(m);
+			}
+		}
+	}
+	free(x);
+	energy_ws_free(rc.ew);
+	hessian_ws_free(rc.hw);
+	return st;
+}

@@ -1,0 +1,44 @@
+#!/bin/sh
+# tis-relax: relaxes perturbed and irregular tissues to max force 1e-10,
+# keeps params and history, reports on stderr, refuses bad usage, and says
+# honestly when a tolerance cannot be reached (exit 3 only with --strict).
+. "$(dirname "$0")/lib.sh"
+plan 17
+
+tis-hex 6 6 >"$T/hex.mesh"
+# A perturbed copy: displacements up to 0.05 (awk, deterministic).
+awk 'BEGIN { s = 1 } /^vertices/ { print; nv = $2; inv = 1; next }
+     inv && nv > 0 { s = (s * 1103515245 + 12345) % 2147483648; a = (s / 2147483648 - 0.5) * 0.1
+                     s = (s * 1103515245 + 12345) % 2147483648; b = (s / 2147483648 - 0.5) * 0.1
+                     print $1 + a, $2 + b; nv--; next } { print }' "$T/hex.mesh" >"$T/pert.mesh"
+
+ok "relaxes a perturbed honeycomb" sh -c "tis-relax --p0 3.6 '$T/pert.mesh' >'$T/r.mesh' 2>'$T/rep'"
+f=$(tis-info "$T/r.mesh" | awk '$1 == "max_force" { print $2 }')
+ok "max force $f < 1e-10" near "$f" 0 1e-10
+ok "report names W, max force and time" grep -q 'W .* -> .*max force .* s$' "$T/rep"
+ok "param p0 recorded" grep -q '^param p0 3.6$' "$T/r.mesh"
+ok "history kept and extended" sh -c "grep -c '^history' '$T/r.mesh' | grep -qx 2"
+e=$(tis-info "$T/r.mesh" | awk '$1 == "energy" { print $2 }')
+ok "relaxed energy is NC (p_hex - p0)^2 = $e" near "$e" 0.539514662779 1e-9
+
+# Relaxing again changes nothing (bit-identical apart from history).
+tis-relax --quiet "$T/r.mesh" >"$T/r2.mesh" 2>"$T/rep2"
+grep -v '^history' "$T/r.mesh" >"$T/a"
+grep -v '^history' "$T/r2.mesh" >"$T/b"
+ok "relaxing a relaxed mesh leaves it unchanged" cmp -s "$T/a" "$T/b"
+ok "--quiet is quiet" [ ! -s "$T/rep2" ]
+
+# Every method reaches the tolerance (stdin input).
+for a in lbfgs fire bfgs2; do
+	ok "--algo $a converges" sh -c "tis-relax --algo $a --strict --quiet <'$T/pert.mesh' >/dev/null"
+done
+
+# A tolerance it cannot reach: message, exit 0, or exit 3 with --strict.
+fails_with 3 "--strict: exit 3 when ftol is missed" tis-relax --quiet --strict --maxeval 5 "$T/pert.mesh"
+ok "without --strict a missed ftol exits 0" sh -c "tis-relax --maxeval 5 '$T/pert.mesh' >'$T/o' 2>'$T/e' && grep -q 'did not reach max force' '$T/e' && grep -q '^end' '$T/o'"
+
+fails_with 2 "--ftol nan" tis-relax --ftol nan "$T/pert.mesh"
+fails_with 2 "--algo bogus" tis-relax --algo bogus "$T/pert.mesh"
+fails_with 2 "--maxeval 0" tis-relax --maxeval 0 "$T/pert.mesh"
+fails_with 1 "bad mesh" sh -c "echo 'tismesh 1' | tis-relax"
+done_testing

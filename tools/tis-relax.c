@@ -1,0 +1,157 @@
+/* tis-relax - relax a tissue to the nearest energy minimum at fixed topology. */
+#include <getopt.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <gsl/gsl_errno.h>
+
+#include "cli.h"
+#include "geom.h"
+#include "minimize.h"
+
+static const char usage[] =
+	"[--p0 X] [--ka Y] [--ftol F] [--maxeval N] [--algo NAME] [--no-polish]\n"
+	"       [--strict] [--quiet] [MESH]";
+static const char help[] =
+	"Minimize the vertex-model energy W over all vertex positions at fixed\n"
+	"topology and write the relaxed mesh to stdout.  Every mesh of the input\n"
+	"stream (MESH or stdin) is relaxed.  Convergence is judged on the largest\n"
+	"vertex force.  A report goes to stderr.\n"
+	"\n"
+	"  --p0 X        preferred shape index (default: the mesh's, else 3.6)\n"
+	"  --ka Y        area modulus (default: the mesh's, else 100)\n"
+	"  --ftol F      converged when the largest vertex force is <= F (default 1e-10)\n"
+	"  --maxeval N   at most N energy evaluations and Hessian products (default 100000)\n"
+	"  --algo NAME   newton (default: Newton-CG, analytic Hessian), lbfgs,\n"
+	"                tnewton, var2 (NLopt), bfgs2 (GSL), fire (FIRE 2.0)\n"
+	"  --no-polish   do not finish with Newton-CG when the method stalls\n"
+	"  --strict      exit 3 if the force tolerance is not reached\n"
+	"  --quiet       no report (a missed tolerance is still reported)\n"
+	"  -h, --help    this help\n"
+	"  --version     print the version\n";
+
+struct opts {
+	int has_p0, has_ka, strict, quiet;
+	double p0, ka;
+	min_opts mo;
+	const char *path;
+};
+
+static struct opts parse(int argc, char **argv)
+{
+	static const struct option lo[] = {
+		{ "p0", required_argument, NULL, 'p' },
+		{ "ka", required_argument, NULL, 'k' },
+		{ "ftol", required_argument, NULL, 'f' },
+		{ "maxeval", required_argument, NULL, 'n' },
+		{ "algo", required_argument, NULL, 'a' },
+		{ "no-polish", no_argument, NULL, 'P' },
+		{ "strict", no_argument, NULL, 's' },
+		{ "quiet", no_argument, NULL, 'q' },
+		{ "help", no_argument, NULL, 'h' },
+		{ "version", no_argument, NULL, 'V' },
+		{ 0 }
+	};
+	struct opts o = { 0 };
+	min_opts_init(&o.mo);
+	int c;
+	while ((c = getopt_long(argc, argv, ":hq", lo, NULL)) != -1) {
+		switch (c) {
+		case 'p': o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
+		case 'k': o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case 'f': o.mo.ftol = cli_double_range("--ftol", optarg, 0, 1e6); break;
+		case 'n': o.mo.maxeval = cli_long("--maxeval", optarg, 1, 1000000000); break;
+		case 'a':
+			if (!min_algo_parse(optarg, &o.mo.algo))
+				cli_usage_error("--algo: unknown method '%s' (newton, lbfgs, "
+				                "tnewton, var2, bfgs2, fire)", optarg);
+			break;
+		case 'P': o.mo.polish = 0; break;
+		case 's': o.strict = 1; break;
+		case 'q': o.quiet = 1; break;
+		case 'h': cli_help(help);
+		case 'V': cli_version();
+		default: cli_bad_option(argv, c);
+		}
+	}
+	if (argc - optind > 1)
+		cli_usage_error("at most one mesh file");
+	o.path = optind < argc ? argv[optind] : NULL;
+	return o;
+}
+
+static double now(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+int main(int argc, char **argv)
+{
+	cli_init("tis-relax", usage);
+	gsl_set_error_handler_off();
+	struct opts o = parse(argc, argv);
+	FILE *f = cli_open(o.path);
+	long line = 0;
+	mesh *m;
+	int nmesh = 0, missed = 0;
+	while (cli_read_mesh(f, o.path, &line, &m)) {
+		nmesh++;
+		if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
+		    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
+			cli_die(EXIT_INPUT, "out of memory");
+		model p = model_from_mesh(m);
+		min_report rep;
+		double t0 = now();
+		int st = mesh_relax(m, &p, &o.mo, &rep);
+		double dt = now() - t0;
+		if (st == MESH_ENOMEM)
+			cli_die(EXIT_INPUT, "out of memory");
+		if (st == MESH_EDOM)
+			cli_die(EXIT_INPUT, "%s: bad model parameters or a non-finite energy "
+			        "(p0 %g, ka %g)", cli_input_name(o.path), p.p0, p.ka);
+		if (st == MESH_EINVAL)
+			cli_die(EXIT_INPUT, "%s: relaxation would invert a cell (no minimum "
+			        "at this topology)", cli_input_name(o.path));
+		char which[32] = "";
+		if (nmesh > 1)
+			snprintf(which, sizeof which, "mesh %d: ", nmesh);
+		if (!o.quiet)
+			fprintf(stderr, "%s: %s%s%s: %ld iterations (%ld polish), %ld evaluations, "
+			        "%ld hessian products, W %.12g -> %.12g, max force %.3g, %.3f s\n",
+			        cli_name, which, min_algo_name(o.mo.algo),
+			        o.mo.polish && o.mo.algo != MIN_NEWTON && rep.npolish ? "+newton" : "",
+			        rep.niter, rep.npolish, rep.neval, rep.nhessvec, rep.f0, rep.f,
+			        rep.gnorm, dt);
+		if (st == MESH_ENOCONV) {
+			missed = 1;
+			double lmin = INFINITY;
+			for (int j = 0; j < m->nj; j++)
+				lmin = fmin(lmin, junction_length(m, m->r, j));
+			const char *why = "";
+			if (lmin < 1e-6)
+				why = " (a junction shrank to zero: no minimum at this topology)";
+			else if (p.p0 >= TIS_PHEX)
+				why = " (p0 >= p_hex: the minimum need not be isolated)";
+			fprintf(stderr, "%s: %sdid not reach max force %g: stopped at %.3g after %ld "
+			        "evaluations%s\n", cli_name, which, o.mo.ftol, rep.gnorm,
+			        rep.neval + rep.nhessvec, why);
+		}
+		cli_history(m, argc, argv);
+		cli_write_mesh(m);
+		mesh_free(m);
+	}
+	if (nmesh == 0)
+		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.path));
+	if (f != stdin)
+		fclose(f);
+	if (missed && o.strict) {
+		if (fflush(stdout) != 0 || fclose(stdout) != 0)
+			cli_die(EXIT_INPUT, "write error");
+		exit(EXIT_NOCONV);
+	}
+	cli_finish();
+}
