@@ -1,0 +1,545 @@
+/* forcelen.c - constrained sweeps of one junction's length. */
+#include "forcelen.h"
+#include "hessian.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_errno.h>
+
+const char *fl_dir_name(int dir)
+{
+	switch (dir) {
+	case FL_REST: return "rest";
+	case FL_OUT: return "out";
+	case FL_BACK: return "back";
+	}
+	return "?";
+}
+
+void fl_opts_init(fl_opts *o)
+{
+	o->step = 0.005;
+	o->range = 0.3;
+	o->lmin = 0.01;
+	o->back = 1;
+	o->predict = 3;
+	min_opts_init(&o->min);
+	/* Newton-CG on the exact Hessian of the parametrized energy: from a
+	 * cubic prediction one or two Newton steps reach 1e-10, where L-BFGS
+	 * stalls at rounding of the energy near 1e-7 and needs the same
+	 * Newton polish anyway (bench/results-forcelen.md). */
+	o->min.algo = MIN_NEWTON;
+	o->min.ftol = 1e-10;
+}
+
+int fl_opts_check(const fl_opts *o, mesh_error *err)
+{
+	const char *msg = NULL;
+	if (!(o->step > 0) || !isfinite(o->step))
+		msg = "step must be positive";
+	else if (!(o->range >= 0) || !isfinite(o->range))
+		msg = "range must not be negative";
+	else if (o->range / o->step > 1e6)
+		msg = "more than 1e6 steps per leg";
+	else if (!(o->lmin > 0) || !isfinite(o->lmin))
+		msg = "lmin must be positive";
+	else if (!(o->min.ftol > 0))
+		msg = "tolerance must be positive";
+	else if (o->predict < 0 || o->predict > FL_MAXPREDICT)
+		msg = "predictor order out of range";
+	else if (o->min.maxeval < 1)
+		msg = "maxeval must be positive";
+	if (msg == NULL)
+		return MESH_OK;
+	if (err) {
+		err->line = 0;
+		snprintf(err->msg, sizeof err->msg, "%s", msg);
+	}
+	return MESH_EDOM;
+}
+
+/* The free variables x (n = 2 nv - 1): every vertex pair but b's, in vertex
+ * order, then s = l t, the junction's angle as an arc length so that dW/ds
+ * is a force like the others and every entry of the gradient is judged on
+ * the same scale.  Between minimizations the last slot holds t itself, so
+ * that a change of l keeps the angle. */
+struct fl_work {
+	int nv, n;
+	energy_ws *ws;
+	hessian_ws *hws;
+	double *r, *g;        /* 2 nv: full coordinates and gradient */
+	double *x, *xrest, *xtry;     /* n each */
+	double *hist[FL_MAXPREDICT + 1];  /* n each: this and earlier solutions */
+	/* Hessian-vector products: Newton-CG asks for many at one point, so
+	 * the coordinates and grad_b W there are kept with the x they belong
+	 * to (hx) and recomputed only when x changes. */
+	double *hr, *hg, *hvr, *hhr, *hx;
+	int hvalid;
+};
+
+typedef struct {
+	const mesh *m;
+	const model *p;
+	fl_work *w;
+	int a, b;
+	double l, jx, jy;     /* held length, junction image offset */
+} fl_ctx;
+
+fl_work *fl_work_alloc(const mesh *m)
+{
+	fl_work *w = calloc(1, sizeof *w);
+	if (w == NULL)
+		return NULL;
+	w->nv = m->nv;
+	w->n = 2 * m->nv - 1;
+	size_t nr = 2 * (size_t)m->nv + 1, nx = (size_t)w->n + 1;
+	w->ws = energy_ws_alloc(m);
+	w->hws = hessian_ws_alloc(m);
+	w->hr = malloc(nr * sizeof *w->hr);
+	w->hg = malloc(nr * sizeof *w->hg);
+	w->hvr = malloc(nr * sizeof *w->hvr);
+	w->hhr = malloc(nr * sizeof *w->hhr);
+	w->hx = malloc(nx * sizeof *w->hx);
+	w->r = malloc(nr * sizeof *w->r);
+	w->g = malloc(nr * sizeof *w->g);
+	w->x = malloc(nx * sizeof *w->x);
+	int nohist = 0;
+	for (int i = 0; i <= FL_MAXPREDICT; i++)
+		nohist |= (w->hist[i] = malloc(nx * sizeof *w->hist[i])) == NULL;
+	w->xrest = malloc(nx * sizeof *w->xrest);
+	w->xtry = malloc(nx * sizeof *w->xtry);
+	if (!w->ws || !w->r || !w->g || !w->x || nohist || !w->xrest || !w->xtry ||
+	    !w->hws || !w->hr || !w->hg || !w->hvr || !w->hhr || !w->hx) {
+		fl_work_free(w);
+		return NULL;
+	}
+	return w;
+}
+
+void fl_work_free(fl_work *w)
+{
+	if (w == NULL)
+		return;
+	energy_ws_free(w->ws);
+	hessian_ws_free(w->hws);
+	free(w->hr);
+	free(w->hg);
+	free(w->hvr);
+	free(w->hhr);
+	free(w->hx);
+	free(w->r);
+	free(w->g);
+	free(w->x);
+	for (int i = 0; i <= FL_MAXPREDICT; i++)
+		free(w->hist[i]);
+	free(w->xrest);
+	free(w->xtry);
+	free(w);
+}
+
+/* x (angle slot holding t) -> full coordinates r. */
+static void x_to_r(const fl_ctx *c, const double *x, double t, double *r)
+{
+	int b = c->b, nv = c->w->nv;
+	memcpy(r, x, 2 * (size_t)b * sizeof *r);
+	memcpy(r + 2 * b + 2, x + 2 * b, 2 * (size_t)(nv - b - 1) * sizeof *r);
+	r[2 * b] = r[2 * c->a] + c->l * cos(t) - c->jx;
+	r[2 * b + 1] = r[2 * c->a + 1] + c->l * sin(t) - c->jy;
+}
+
+static void r_to_x(const fl_ctx *c, const double *r, double t, double *x)
+{
+	int b = c->b, nv = c->w->nv;
+	memcpy(x, r, 2 * (size_t)b * sizeof *x);
+	memcpy(x + 2 * b, r + 2 * b + 2, 2 * (size_t)(nv - b - 1) * sizeof *x);
+	x[2 * nv - 2] = t;
+}
+
+/* Index of vertex v's pair in x (v != b). */
+static int xi(const fl_ctx *c, int v) { return v < c->b ? 2 * v : 2 * v - 2; }
+
+/* The objective: W at r(x), x's last entry being s = l t.  The chain rule
+ * through r_b = r_a + l (cos t, sin t) gives dW/dr_a += grad_b W and
+ * dW/ds = grad_b W . (-sin t, cos t). */
+static double fl_objective(const double *x, double *gx, void *data)
+{
+	const fl_ctx *c = data;
+	fl_work *w = c->w;
+	int n = w->n, b = c->b;
+	double t = x[n - 1] / c->l;
+	x_to_r(c, x, t, w->r);
+	double W = mesh_energy(c->m, w->r, c->p, w->g, w->ws);
+	const double *g = w->g;
+	memcpy(gx, g, 2 * (size_t)b * sizeof *gx);
+	memcpy(gx + 2 * b, g + 2 * b + 2, 2 * (size_t)(w->nv - b - 1) * sizeof *gx);
+	int ia = xi(c, c->a);
+	gx[ia] += g[2 * b];
+	gx[ia + 1] += g[2 * b + 1];
+	gx[n - 1] = -g[2 * b] * sin(t) + g[2 * b + 1] * cos(t);
+	return W;
+}
+
+/* hv = H_x v for the objective above.  With J = dr/dx (identity but for
+ * dr_b/dx_a = I and dr_b/ds = (-sin t, cos t)), H_x = J^T H J plus the
+ * curvature of the parametrization, which only r_b(s) has:
+ * d2 r_b/ds2 = -(cos t, sin t)/l, entering as grad_b W . d2 r_b/ds2. */
+static void fl_hessvec(const double *x, const double *v, double *hv, void *data)
+{
+	const fl_ctx *c = data;
+	fl_work *w = c->w;
+	int n = w->n, a = c->a, b = c->b, nv = w->nv;
+	double t = x[n - 1] / c->l, ct = cos(t), st = sin(t);
+	if (!w->hvalid || memcmp(x, w->hx, (size_t)n * sizeof *x) != 0) {
+		x_to_r(c, x, t, w->hr);
+		mesh_energy(c->m, w->hr, c->p, w->hg, w->ws);
+		memcpy(w->hx, x, (size_t)n * sizeof *x);
+		w->hvalid = 1;
+	}
+	int ia = xi(c, a);
+	double *vr = w->hvr, *hr = w->hhr;
+	memcpy(vr, v, 2 * (size_t)b * sizeof *vr);
+	memcpy(vr + 2 * b + 2, v + 2 * b, 2 * (size_t)(nv - b - 1) * sizeof *vr);
+	vr[2 * b] = v[ia] - st * v[n - 1];
+	vr[2 * b + 1] = v[ia + 1] + ct * v[n - 1];
+	mesh_hessvec(c->m, w->hr, c->p, vr, hr, w->hws);
+	memcpy(hv, hr, 2 * (size_t)b * sizeof *hv);
+	memcpy(hv + 2 * b, hr + 2 * b + 2, 2 * (size_t)(nv - b - 1) * sizeof *hv);
+	hv[ia] += hr[2 * b];
+	hv[ia + 1] += hr[2 * b + 1];
+	const double *gb = w->hg + 2 * b;
+	hv[n - 1] = -st * hr[2 * b] + ct * hr[2 * b + 1]
+	            - (gb[0] * ct + gb[1] * st) / c->l * v[n - 1];
+}
+
+/* Residual force: the largest vertex-pair norm and |dW/ds|, all forces. */
+static double fl_gnorm(int n, const double *g, void *data)
+{
+	(void)data;
+	double m2 = g[n - 1] * g[n - 1];
+	for (int i = 0; i + 1 < n - 1; i += 2) {
+		double q = g[i] * g[i] + g[i + 1] * g[i + 1];
+		if (q > m2)
+			m2 = q;
+	}
+	return sqrt(m2);
+}
+
+double fl_force(const mesh *m, const double *r, const model *p, int j,
+                double *grad, energy_ws *ws)
+{
+	double d[2];
+	double l = junction_vec(m, r, j, d);
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+	mesh_energy(m, r, p, grad, ws);
+	return ((grad[2 * a] - grad[2 * b]) * d[0] +
+	        (grad[2 * a + 1] - grad[2 * b + 1]) * d[1]) / l;
+}
+
+static void leg_counts(const mesh *m, int j, const fl_opts *o, int *kout, int *kin)
+{
+	double l0 = junction_length(m, m->r, j);
+	/* A relative slack so that range = K step gives K points despite
+	 * rounding in the division. */
+	int ko = (int)floor(o->range / o->step * (1 + 1e-12) + 1e-9);
+	int ki = l0 > o->lmin ? (int)floor((l0 - o->lmin) / o->step * (1 + 1e-12) + 1e-9) : 0;
+	*kout = ko;
+	*kin = ki < ko ? ki : ko;
+}
+
+int fl_npoints(const mesh *m, int j, const fl_opts *o)
+{
+	int ko, ki;
+	if (j < 0 || j >= m->nj)
+		return 0;
+	leg_counts(m, j, o, &ko, &ki);
+	return 1 + (o->back ? 2 : 1) * (ko + ki);
+}
+
+/* Minimize at the held length c->l from w->x (angle slot holding t) and
+ * record the point; w->x keeps the result (angle slot t again). */
+static int solve_point(fl_ctx *c, const fl_opts *o, int dir, fl_point *pt)
+{
+	fl_work *w = c->w;
+	int n = w->n;
+	min_opts mo = o->min;
+	mo.gnorm = fl_gnorm;
+	mo.hessvec = fl_hessvec;
+	w->hvalid = 0;
+	min_report rep;
+	w->x[n - 1] *= c->l;
+	int st = min_run(n, w->x, fl_objective, c, &mo, &rep);
+	if (st == MESH_ENOMEM || st == MESH_EDOM)
+		return st;
+	/* One more evaluation at the returned point: the minimizer's report
+	 * may refer to a different iterate than the one it hands back. */
+	double W = fl_objective(w->x, w->xtry, c);
+	double fres = fl_gnorm(n, w->xtry, NULL);
+	double t = w->x[n - 1] / c->l;
+	w->x[n - 1] = t;
+	int a = c->a, b = c->b;
+	const double *g = w->g;
+	pt->l = c->l;
+	pt->f = (g[2 * a] - g[2 * b]) * cos(t) + (g[2 * a + 1] - g[2 * b + 1]) * sin(t);
+	pt->W = W;
+	pt->fres = fres;
+	pt->neval = rep.neval + rep.nhessvec + 1;
+	pt->dir = dir;
+	pt->status = fres <= o->min.ftol ? MESH_OK : MESH_ENOCONV;
+	return MESH_OK;
+}
+
+/* Move the start to a new held length.  The first point of a leg keeps the
+ * angle and the midpoint of the junction (its two ends move by half the
+ * change each); later points extrapolate the last solutions of the leg by
+ * the polynomial through them (order o->predict, at most the points there
+ * are), which cuts the work per point several times over on smooth
+ * stretches.  w->hist[0..] hold the solutions before the current one,
+ * newest first. */
+static void predict(fl_ctx *c, const fl_opts *o, int have, double lold)
+{
+	/* Extrapolation to the next equally spaced point: x_new = sum_i
+	 * (-1)^i C(k+1, i+1) x_{-i}, i = 0..k. */
+	static const double coef[FL_MAXPREDICT + 1][FL_MAXPREDICT + 1] = {
+		{ 1 }, { 2, -1 }, { 3, -3, 1 }, { 4, -6, 4, -1 }, { 5, -10, 10, -5, 1 },
+	};
+	fl_work *w = c->w;
+	int n = w->n, ia = xi(c, c->a);
+	int k = have < o->predict ? have : o->predict;
+	double *x = w->x;
+	/* Rotate the history: the oldest array becomes the newest slot. */
+	double *old = w->hist[FL_MAXPREDICT];
+	for (int i = FL_MAXPREDICT; i > 0; i--)
+		w->hist[i] = w->hist[i - 1];
+	w->hist[0] = old;
+	memcpy(w->hist[0], x, (size_t)n * sizeof *x);
+	if (k == 0) {
+		double t = x[n - 1], dl = c->l - lold;
+		x[ia] -= 0.5 * dl * cos(t);
+		x[ia + 1] -= 0.5 * dl * sin(t);
+		return;
+	}
+	for (int i = 0; i < n; i++) {
+		double s = 0;
+		for (int q = 0; q <= k; q++)
+			s += coef[k][q] * w->hist[q][i];
+		x[i] = s;
+	}
+}
+
+/* One leg: from the state in w->x at length l0 + sgn k0 step, through
+ * k = k0+dk, ..., k1. */
+static int leg(fl_ctx *c, const fl_opts *o, double l0, double sgn, int k0,
+               int k1, int dir, fl_point *pts, int *np, int *nfail,
+               const volatile sig_atomic_t *stop)
+{
+	int dk = k1 >= k0 ? 1 : -1;
+	double lold = l0 + sgn * k0 * o->step;
+	int have = 0;
+	for (int k = k0 + dk; dk > 0 ? k <= k1 : k >= k1; k += dk) {
+		if (stop && *stop)
+			return MESH_ENOCONV;
+		c->l = l0 + sgn * k * o->step;
+		predict(c, o, have, lold);
+		int st = solve_point(c, o, dir, &pts[*np]);
+		if (st != MESH_OK)
+			return st;
+		*nfail += pts[*np].status != MESH_OK;
+		(*np)++;
+		lold = c->l;
+		have++;
+	}
+	return MESH_OK;
+}
+
+int fl_sweep(const mesh *m, const model *p, int j, const fl_opts *o,
+             fl_work *w, fl_point *pts, int *npts, const volatile sig_atomic_t *stop)
+{
+	*npts = 0;
+	if (j < 0 || j >= m->nj || fl_opts_check(o, NULL) != MESH_OK ||
+	    w->nv != m->nv)
+		return MESH_EDOM;
+	int ko, ki;
+	leg_counts(m, j, o, &ko, &ki);
+
+	fl_ctx c = { .m = m, .p = p, .w = w, .a = m->jv[2 * j], .b = m->jv[2 * j + 1],
+	             .jx = m->jimg[2 * j], .jy = m->jimg[2 * j + 1] };
+	double d[2];
+	double l0 = junction_vec(m, m->r, j, d);
+	double t0 = atan2(d[1], d[0]);
+	c.l = l0;
+	/* Start from the mesh's own coordinates: with r_b recomputed from r_a,
+	 * l0 and t0 the rest state is reproduced up to rounding. */
+	r_to_x(&c, m->r, t0, w->x);
+
+	int np = 0, nfail = 0, st;
+	if (stop && *stop)
+		return MESH_ENOCONV;
+	st = solve_point(&c, o, FL_REST, &pts[np]);
+	if (st != MESH_OK)
+		return st;
+	nfail += pts[np].status != MESH_OK;
+	np++;
+	memcpy(w->xrest, w->x, (size_t)w->n * sizeof *w->x);
+
+	for (int side = 0; side < 2; side++) {
+		double sgn = side == 0 ? 1 : -1;
+		int kmax = side == 0 ? ko : ki;
+		if (kmax == 0)
+			continue;
+		if (side == 1) {
+			memcpy(w->x, w->xrest, (size_t)w->n * sizeof *w->x);
+		}
+		st = leg(&c, o, l0, sgn, 0, kmax, FL_OUT, pts, &np, &nfail, stop);
+		if (st == MESH_OK && o->back)
+			st = leg(&c, o, l0, sgn, kmax, 0, FL_BACK, pts, &np, &nfail, stop);
+		*npts = np;
+		if (st != MESH_OK)
+			return st;
+	}
+	*npts = np;
+	return nfail ? MESH_ENOCONV : MESH_OK;
+}
+
+struct fl_linear {
+	int n;
+	double *lam;      /* n eigenvalues */
+	double *u;        /* n x n eigenvectors, column k is mode k (row-major) */
+	int *kind;        /* per mode: 0 regular, 1 zero, 2 translation */
+	double tol;       /* |lambda| <= tol counts as zero */
+	int nzero, nneg;
+};
+
+void fl_linear_free(fl_linear *lr)
+{
+	if (lr == NULL)
+		return;
+	free(lr->lam);
+	free(lr->u);
+	free(lr->kind);
+	free(lr);
+}
+
+static int lin_fail(mesh_error *err, int st, const char *msg)
+{
+	if (err) {
+		err->line = 0;
+		snprintf(err->msg, sizeof err->msg, "%s", msg);
+	}
+	return st;
+}
+
+int fl_linear_alloc(const mesh *m, const model *p, double zerotol,
+                    fl_linear **out, mesh_error *err)
+{
+	*out = NULL;
+	if (!(zerotol >= 0) || !(zerotol < 1))
+		return lin_fail(err, MESH_EDOM, "zero-mode tolerance must be in [0, 1)");
+	int n = 2 * m->nv;
+	fl_linear *lr = calloc(1, sizeof *lr);
+	double *h = malloc(((size_t)n * n + 1) * sizeof *h);
+	gsl_eigen_symmv_workspace *ew = gsl_eigen_symmv_alloc(n);
+	gsl_vector *ev = gsl_vector_alloc(n);
+	gsl_matrix *U = gsl_matrix_alloc(n, n);
+	if (lr)
+		lr->n = n;
+	if (lr) {
+		lr->lam = malloc((size_t)n * sizeof *lr->lam);
+		lr->u = malloc((size_t)n * n * sizeof *lr->u);
+		lr->kind = malloc((size_t)n * sizeof *lr->kind);
+	}
+	int st = MESH_OK;
+	if (!lr || !h || !ew || !ev || !U || !lr->lam || !lr->u || !lr->kind ||
+	    mesh_hessian(m, m->r, p, h) != MESH_OK) {
+		st = lin_fail(err, MESH_ENOMEM, "out of memory");
+		goto done;
+	}
+	gsl_matrix_view H = gsl_matrix_view_array(h, n, n);
+	if (gsl_eigen_symmv(&H.matrix, ev, U, ew) != GSL_SUCCESS) {
+		st = lin_fail(err, MESH_ENOCONV, "eigendecomposition of the hessian failed");
+		goto done;
+	}
+	double lmax = 0;
+	for (int k = 0; k < n; k++) {
+		lr->lam[k] = gsl_vector_get(ev, k);
+		if (fabs(lr->lam[k]) > lmax)
+			lmax = fabs(lr->lam[k]);
+	}
+	lr->tol = zerotol * lmax;
+	for (int i = 0; i < n; i++)
+		for (int k = 0; k < n; k++)
+			lr->u[(size_t)i * n + k] = gsl_matrix_get(U, i, k);
+	/* Translations are zero modes by construction; in a degenerate zero
+	 * space the solver returns some basis of it, so they are identified by
+	 * overlap: the two zero modes with the largest weight on the uniform
+	 * shifts are the translations, the others are genuine (floppy). */
+	double *tw = malloc(((size_t)n + 1) * sizeof *tw);
+	if (tw == NULL) {
+		st = lin_fail(err, MESH_ENOMEM, "out of memory");
+		goto done;
+	}
+	for (int k = 0; k < n; k++) {
+		double sx = 0, sy = 0;
+		for (int v = 0; v < m->nv; v++) {
+			sx += lr->u[(size_t)(2 * v) * n + k];
+			sy += lr->u[(size_t)(2 * v + 1) * n + k];
+		}
+		tw[k] = (sx * sx + sy * sy) / m->nv;
+		lr->kind[k] = fabs(lr->lam[k]) <= lr->tol ? 1 : 0;
+		if (lr->lam[k] < -lr->tol)
+			lr->nneg++;
+	}
+	for (int t = 0; t < 2; t++) {
+		int best = -1;
+		for (int k = 0; k < n; k++)
+			if (lr->kind[k] != 2 && (best < 0 || tw[k] > tw[best]))
+				best = k;
+		if (best >= 0)
+			lr->kind[best] = 2;
+	}
+	free(tw);
+	for (int k = 0; k < n; k++)
+		lr->nzero += lr->kind[k] == 1;
+done:
+	free(h);
+	if (ew)
+		gsl_eigen_symmv_free(ew);
+	gsl_vector_free(ev);
+	gsl_matrix_free(U);
+	if (st != MESH_OK)
+		fl_linear_free(lr);
+	else
+		*out = lr;
+	return st;
+}
+
+int fl_linear_a1(const fl_linear *lr, const mesh *m, int j, fl_lin_result *res)
+{
+	if (j < 0 || j >= m->nj || 2 * m->nv != lr->n)
+		return MESH_EDOM;
+	double d[2];
+	double l = junction_vec(m, m->r, j, d);
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1], n = lr->n;
+	double ex = d[0] / l, ey = d[1] / l;
+	const double *ua = lr->u + (size_t)(2 * a) * n, *ua1 = ua + n;
+	const double *ub = lr->u + (size_t)(2 * b) * n, *ub1 = ub + n;
+	double ghg = 0, gnull = 0;
+	for (int k = 0; k < n; k++) {
+		/* b_k = U^T g with g_a = -e, g_b = +e */
+		double bk = ex * (ub[k] - ua[k]) + ey * (ub1[k] - ua1[k]);
+		if (lr->kind[k] == 0)
+			ghg += bk * bk / lr->lam[k];
+		else if (lr->kind[k] == 1)
+			gnull += bk * bk;
+	}
+	res->gHg = ghg;
+	res->gnull = gnull;
+	res->nzero = lr->nzero;
+	res->nneg = lr->nneg;
+	/* |g|^2 = 2; a weight on the zero modes above rounding makes the
+	 * junction floppy. */
+	res->a1 = gnull > 1e-10 ? 0.0 : -2.0 / ghg;
+	return MESH_OK;
+}

@@ -1,0 +1,166 @@
+/* Constrained sweeps: f(l0) = 0, f = -2 dW/dl against finite differences
+ * of the swept energies, the slope at l0 against the second difference of
+ * the relaxed energy and against the exact linear response, no hysteresis
+ * on a stable honeycomb, the same curve from two minimizers, a junction
+ * across the periodic boundary, point counts, bad arguments. */
+#include <math.h>
+#include <stdlib.h>
+
+#include <gsl/gsl_errno.h>
+
+#include "forcelen.h"
+#include "lattice.h"
+#include "tap.h"
+
+static fl_point *sweep(const mesh *m, const model *p, int j, const fl_opts *o,
+                       int *n, int *st)
+{
+	fl_work *w = fl_work_alloc(m);
+	fl_point *pts = malloc((fl_npoints(m, j, o) + 1) * sizeof *pts);
+	*st = fl_sweep(m, p, j, o, w, pts, n, NULL);
+	fl_work_free(w);
+	return pts;
+}
+
+/* The point of the given direction at l0 + k step (k may be negative). */
+static const fl_point *at(const fl_point *pts, int n, int dir, double l)
+{
+	for (int i = 0; i < n; i++)
+		if (pts[i].dir == dir && fabs(pts[i].l - l) < 1e-12)
+			return &pts[i];
+	return NULL;
+}
+
+int main(void)
+{
+	gsl_set_error_handler_off();
+	tap_plan(21);
+	mesh *m;
+	mesh_error err;
+	lattice_honeycomb(6, 6, &m, &err);
+	model p = { .p0 = 3.6, .ka = 100 };
+	fl_opts o;
+	fl_opts_init(&o);
+	o.range = 0.02;
+	const double h = o.step;
+	int j = 0, n, st;
+	double l0 = junction_length(m, m->r, j);
+
+	ok(fl_npoints(m, j, &o) == 17, "17 points: rest, 4 out and 4 back on each side");
+	fl_point *pts = sweep(m, &p, j, &o, &n, &st);
+	ok(st == MESH_OK && n == 17, "sweep converges at every point (status %d, %d points)", st, n);
+	int allok = 1;
+	for (int i = 0; i < n; i++)
+		allok &= pts[i].fres <= o.min.ftol && pts[i].status == MESH_OK;
+	ok(allok, "every residual force is within the tolerance");
+	ok(pts[0].dir == FL_REST && fabs(pts[0].f) < 1e-9,
+	   "f(l0) = 0 within the tolerance (%.3g)", pts[0].f);
+
+	/* f = -2 dW/dl: central differences of the swept energies. */
+	double emax = 0;
+	for (int k = -3; k <= 3; k++) {
+		const fl_point *c = k == 0 ? &pts[0] : at(pts, n, FL_OUT, l0 + k * h);
+		const fl_point *a = at(pts, n, k - 1 == 0 ? FL_REST : FL_OUT, l0 + (k - 1) * h);
+		const fl_point *b = at(pts, n, k + 1 == 0 ? FL_REST : FL_OUT, l0 + (k + 1) * h);
+		if (k - 1 == 0)
+			a = &pts[0];
+		if (k + 1 == 0)
+			b = &pts[0];
+		double fd = -2 * (b->W - a->W) / (2 * h);
+		if (fabs(fd - c->f) > emax)
+			emax = fabs(fd - c->f);
+	}
+	ok(emax < 1e-5, "f = -2 dW/dl by central differences (largest error %.3g)", emax);
+
+	/* The slope at l0, three ways. */
+	const fl_point *pp = at(pts, n, FL_OUT, l0 + h), *pm = at(pts, n, FL_OUT, l0 - h);
+	double slope = (pp->f - pm->f) / (2 * h);
+	double w2 = -2 * (pp->W - 2 * pts[0].W + pm->W) / (h * h);
+	fl_linear *lr;
+	ok(fl_linear_alloc(m, &p, 1e-10, &lr, &err) == MESH_OK, "linear response set up");
+	fl_lin_result lin;
+	fl_linear_a1(lr, m, j, &lin);
+	ok(lin.nzero == 0 && lin.nneg == 0, "stable honeycomb: no zero modes but the translations, none negative");
+	ok(lin.a1 < 0, "a1 < 0 for a stable junction (%.6f)", lin.a1);
+	is_near(slope, lin.a1, 2e-4, "slope of f at l0 = exact linear response a1");
+	is_near(w2, lin.a1, 2e-4, "-2 W''(l0) of the relaxed energy = a1");
+
+	/* No hysteresis on the stable honeycomb. */
+	double hmax = 0;
+	for (int i = 0; i < n; i++)
+		if (pts[i].dir == FL_BACK) {
+			const fl_point *q = fabs(pts[i].l - l0) < 1e-12 ? &pts[0] : at(pts, n, FL_OUT, pts[i].l);
+			if (fabs(q->f - pts[i].f) > hmax)
+				hmax = fabs(q->f - pts[i].f);
+		}
+	ok(hmax < 1e-8, "back legs retrace the out legs (largest difference %.3g)", hmax);
+
+	/* A second minimizer (L-BFGS with its polish, no predictor). */
+	fl_opts o2 = o;
+	o2.min.algo = MIN_LBFGS;
+	o2.predict = 0;
+	int n2, st2;
+	fl_point *pts2 = sweep(m, &p, j, &o2, &n2, &st2);
+	double dmax = 0;
+	for (int i = 0; i < n && i < n2; i++)
+		if (fabs(pts[i].f - pts2[i].f) > dmax)
+			dmax = fabs(pts[i].f - pts2[i].f);
+	ok(st2 == MESH_OK && n2 == n && dmax < 1e-8,
+	   "L-BFGS without prediction gives the same curve (%.3g)", dmax);
+	free(pts2);
+
+	/* A junction that crosses the periodic boundary. */
+	int jb = -1;
+	for (int k = 0; k < m->nj && jb < 0; k++)
+		if (m->jimg[2 * k] != 0 || m->jimg[2 * k + 1] != 0)
+			jb = k;
+	ok(jb >= 0, "the honeycomb has a junction across the boundary (%d)", jb);
+	pts2 = sweep(m, &p, jb, &o, &n2, &st2);
+	fl_lin_result linb;
+	fl_linear_a1(lr, m, jb, &linb);
+	double lb = junction_length(m, m->r, jb);
+	const fl_point *bp = at(pts2, n2, FL_OUT, lb + h), *bm = at(pts2, n2, FL_OUT, lb - h);
+	ok(st2 == MESH_OK && fabs(pts2[0].f) < 1e-9 && bp && bm &&
+	   fabs((bp->f - bm->f) / (2 * h) - linb.a1) < 2e-4,
+	   "across the boundary: f(l0) = 0 and the slope is a1 (%.6f vs %.6f)",
+	   bp && bm ? (bp->f - bm->f) / (2 * h) : NAN, linb.a1);
+	free(pts2);
+	fl_linear_free(lr);
+
+	/* The inward leg stops at lmin. */
+	fl_opts o3 = o;
+	o3.lmin = l0 - 0.012;
+	o3.back = 0;
+	ok(fl_npoints(m, j, &o3) == 1 + 4 + 2, "lmin cuts the inward leg (%d points)",
+	   fl_npoints(m, j, &o3));
+
+	/* Above p_hex the honeycomb is not a minimum: the linear response
+	 * reports negative modes instead of a meaningless a1. */
+	model hi = { .p0 = 3.9, .ka = 100 };
+	fl_linear_alloc(m, &hi, 1e-10, &lr, &err);
+	fl_linear_a1(lr, m, j, &lin);
+	ok(lin.nneg > 0, "honeycomb at p0 3.9 has negative modes (%d)", lin.nneg);
+	fl_linear_free(lr);
+
+	/* Bad arguments. */
+	fl_work *w = fl_work_alloc(m);
+	ok(fl_sweep(m, &p, m->nj, &o, w, pts, &n, NULL) == MESH_EDOM && n == 0,
+	   "junction out of range is MESH_EDOM");
+	fl_opts bad = o;
+	bad.step = -1;
+	ok(fl_opts_check(&bad, &err) == MESH_EDOM, "negative step is rejected: %s", err.msg);
+	bad = o;
+	bad.step = NAN;
+	ok(fl_opts_check(&bad, &err) == MESH_EDOM, "NaN step is rejected");
+	bad = o;
+	bad.predict = 9;
+	ok(fl_sweep(m, &p, j, &bad, w, pts, &n, NULL) == MESH_EDOM, "predictor order 9 is rejected");
+	volatile sig_atomic_t stop = 1;
+	ok(fl_sweep(m, &p, j, &o, w, pts, &n, &stop) == MESH_ENOCONV && n == 0,
+	   "a raised stop flag ends the sweep at once");
+	fl_work_free(w);
+
+	free(pts);
+	mesh_free(m);
+	return tap_done();
+}

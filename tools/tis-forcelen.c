@@ -1,0 +1,398 @@
+/* tis-forcelen - quasistatic force-extension curves f(l) of junctions. */
+#include <getopt.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "cli.h"
+#include "forcelen.h"
+#include "geom.h"
+
+static const char usage[] =
+	"(--junction A B | --index K | --random K [--seed S] | --all) [options] [MESH]";
+static const char help[] =
+	"Sweep the length l of junctions quasistatically and write the restoring\n"
+	"force f(l) = (grad_a W - grad_b W) . e as a TSV table.  The length is\n"
+	"held exactly (r_b = r_a + l (cos t, sin t)); every point minimizes W over\n"
+	"all other coordinates, r_a and t, starting from the previous point.\n"
+	"From the rest length l0 the sweep goes out to l0 + range and back, then\n"
+	"in to max(l0 - range, lmin) and back.  Every mesh of the input stream\n"
+	"is measured in turn (for instance one per p0); the table has one header.\n"
+	"\n"
+	"Junctions:\n"
+	"  --junction A B   the junction joining vertices A and B\n"
+	"  --index K        junction number K (0-based)\n"
+	"  --random K       K junctions drawn without replacement (--seed S, 1)\n"
+	"  --all            every junction\n"
+	"Model:\n"
+	"  --p0 X, --ka Y   override the mesh's parameters\n"
+	"Sweep:\n"
+	"  --step D         length step (0.005)\n"
+	"  --range R        largest |l - l0| (0.3)\n"
+	"  --lmin L         smallest length (0.01)\n"
+	"  --no-back        no return legs (no hysteresis check)\n"
+	"  --predict N      extrapolation order of the warm starts, 0..4 (3)\n"
+	"Minimizer:\n"
+	"  --tol F          residual force tolerance (1e-10)\n"
+	"  --algo NAME      newton, lbfgs, fire, bfgs2, tnewton, var2 (newton)\n"
+	"  --maxeval N      evaluations per point (100000)\n"
+	"  --no-relax       do not relax the input first when it is not at rest\n"
+	"Other:\n"
+	"  --linear         instead of sweeps, the exact linear response\n"
+	"                   a1 = -2/(g^T H^+ g) per junction (table p0 j a b l0 a1\n"
+	"                   nzero nneg)\n"
+	"  --threads N      worker threads (2)\n"
+	"  -h, --help       this help\n"
+	"  --version        print the version\n"
+	"\n"
+	"Columns: p0 j a b l0 dir l f W fres; dir is rest, out (away from l0) or\n"
+	"back (returning), fres the residual force of the point.  Exit status 3\n"
+	"if some point missed the tolerance (all rows are still written).\n";
+
+enum { SEL_NONE, SEL_PAIR, SEL_INDEX, SEL_RANDOM, SEL_ALL };
+
+struct opts {
+	int sel;
+	long va, vb, index, nrandom;
+	unsigned long seed;
+	int has_p0, has_ka;
+	double p0, ka;
+	fl_opts fl;
+	int relax, linear, threads;
+	const char *input;
+};
+
+static void set_sel(struct opts *o, int sel)
+{
+	if (o->sel != SEL_NONE && o->sel != sel)
+		cli_usage_error("choose one of --junction, --index, --random, --all");
+	o->sel = sel;
+}
+
+static struct opts parse(int argc, char **argv)
+{
+	enum { O_P0 = 256, O_KA, O_STEP, O_RANGE, O_LMIN, O_NOBACK, O_PRED, O_TOL,
+	       O_ALGO, O_MAXEVAL, O_NORELAX, O_LINEAR, O_THREADS, O_JUNCTION,
+	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION };
+	static const struct option lo[] = {
+		{ "junction", required_argument, NULL, O_JUNCTION },
+		{ "index", required_argument, NULL, O_INDEX },
+		{ "random", required_argument, NULL, O_RANDOM },
+		{ "seed", required_argument, NULL, O_SEED },
+		{ "all", no_argument, NULL, O_ALL },
+		{ "p0", required_argument, NULL, O_P0 },
+		{ "ka", required_argument, NULL, O_KA },
+		{ "step", required_argument, NULL, O_STEP },
+		{ "range", required_argument, NULL, O_RANGE },
+		{ "lmin", required_argument, NULL, O_LMIN },
+		{ "no-back", no_argument, NULL, O_NOBACK },
+		{ "predict", required_argument, NULL, O_PRED },
+		{ "tol", required_argument, NULL, O_TOL },
+		{ "algo", required_argument, NULL, O_ALGO },
+		{ "maxeval", required_argument, NULL, O_MAXEVAL },
+		{ "no-relax", no_argument, NULL, O_NORELAX },
+		{ "linear", no_argument, NULL, O_LINEAR },
+		{ "threads", required_argument, NULL, O_THREADS },
+		{ "help", no_argument, NULL, 'h' },
+		{ "version", no_argument, NULL, O_VERSION },
+		{ 0 }
+	};
+	struct opts o = { .sel = SEL_NONE, .seed = 1, .relax = 1, .threads = 2 };
+	fl_opts_init(&o.fl);
+	int c;
+	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+		switch (c) {
+		case O_JUNCTION:
+			set_sel(&o, SEL_PAIR);
+			o.va = cli_long("--junction", optarg, 0, 2000000000);
+			if (optind >= argc)
+				cli_usage_error("option '--junction' needs two vertex ids");
+			o.vb = cli_long("--junction", argv[optind++], 0, 2000000000);
+			break;
+		case O_INDEX:
+			set_sel(&o, SEL_INDEX);
+			o.index = cli_long("--index", optarg, 0, 2000000000);
+			break;
+		case O_RANDOM:
+			set_sel(&o, SEL_RANDOM);
+			o.nrandom = cli_long("--random", optarg, 1, 2000000000);
+			break;
+		case O_SEED: o.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
+		case O_ALL: set_sel(&o, SEL_ALL); break;
+		case O_P0: o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
+		case O_KA: o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case O_STEP: o.fl.step = cli_double_range("--step", optarg, 1e-9, 10); break;
+		case O_RANGE: o.fl.range = cli_double_range("--range", optarg, 0, 100); break;
+		case O_LMIN: o.fl.lmin = cli_double_range("--lmin", optarg, 1e-9, 100); break;
+		case O_NOBACK: o.fl.back = 0; break;
+		case O_PRED: o.fl.predict = (int)cli_long("--predict", optarg, 0, FL_MAXPREDICT); break;
+		case O_TOL: o.fl.min.ftol = cli_double_range("--tol", optarg, 1e-16, 1e3); break;
+		case O_ALGO:
+			if (!min_algo_parse(optarg, &o.fl.min.algo))
+				cli_usage_error("--algo: unknown method '%s'", optarg);
+			break;
+		case O_MAXEVAL: o.fl.min.maxeval = cli_long("--maxeval", optarg, 1, 1000000000L); break;
+		case O_NORELAX: o.relax = 0; break;
+		case O_LINEAR: o.linear = 1; break;
+		case O_THREADS: o.threads = (int)cli_long("--threads", optarg, 1, 64); break;
+		case 'h': cli_help(help);
+		case O_VERSION: cli_version();
+		default: cli_bad_option(argv, c);
+		}
+	}
+	if (o.sel == SEL_NONE)
+		cli_usage_error("choose junctions with --junction, --index, --random or --all");
+	if (o.fl.range / o.fl.step > 1e6)
+		cli_usage_error("--range/--step: more than 1e6 points per leg");
+	if (argc - optind > 1)
+		cli_usage_error("at most one input file");
+	o.input = optind < argc ? argv[optind] : NULL;
+	return o;
+}
+
+/* The junctions to measure, in output order. */
+static int *select_junctions(const struct opts *o, const mesh *m, int *count)
+{
+	int n = 0;
+	int *sel = NULL;
+	switch (o->sel) {
+	case SEL_PAIR: {
+		if (o->va >= m->nv || o->vb >= m->nv)
+			cli_die(EXIT_INPUT, "--junction %ld %ld: the mesh has %d vertices",
+			        o->va, o->vb, m->nv);
+		int j = mesh_junction_find(m, (int)o->va, (int)o->vb);
+		if (j < 0)
+			cli_die(EXIT_INPUT, "--junction %ld %ld: no junction joins these vertices",
+			        o->va, o->vb);
+		sel = malloc(sizeof *sel);
+		if (sel)
+			sel[n++] = j;
+		break;
+	}
+	case SEL_INDEX:
+		if (o->index >= m->nj)
+			cli_die(EXIT_INPUT, "--index %ld: the mesh has %d junctions", o->index, m->nj);
+		sel = malloc(sizeof *sel);
+		if (sel)
+			sel[n++] = (int)o->index;
+		break;
+	case SEL_RANDOM: {
+		if (o->nrandom > m->nj)
+			cli_die(EXIT_INPUT, "--random %ld: the mesh has %d junctions", o->nrandom, m->nj);
+		int *all = malloc((size_t)m->nj * sizeof *all);
+		sel = malloc((size_t)o->nrandom * sizeof *sel);
+		gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+		if (all && sel && r) {
+			for (int j = 0; j < m->nj; j++)
+				all[j] = j;
+			gsl_rng_set(r, o->seed);
+			/* gsl_ran_choose keeps the input order: ascending indices */
+			gsl_ran_choose(r, sel, (size_t)o->nrandom, all, (size_t)m->nj, sizeof *all);
+			n = (int)o->nrandom;
+		}
+		if (r)
+			gsl_rng_free(r);
+		free(all);
+		break;
+	}
+	case SEL_ALL:
+		sel = malloc(((size_t)m->nj + 1) * sizeof *sel);
+		if (sel)
+			for (; n < m->nj; n++)
+				sel[n] = n;
+		break;
+	}
+	if (sel == NULL || (n == 0 && m->nj > 0))
+		cli_die(EXIT_INPUT, "out of memory");
+	*count = n;
+	return sel;
+}
+
+/* Work shared by the sweep threads: junction k of sel goes to whichever
+ * thread asks next, its points into res[k], so the output order does not
+ * depend on the threads. */
+struct job {
+	const mesh *m;
+	const model *p;
+	const fl_opts *fl;
+	const int *sel;
+	int count;
+	fl_point **res;
+	int *nres, *status;
+	int next;
+	pthread_mutex_t lock;
+	int oom;
+};
+
+static void *worker(void *arg)
+{
+	struct job *jb = arg;
+	fl_work *w = fl_work_alloc(jb->m);
+	for (;;) {
+		pthread_mutex_lock(&jb->lock);
+		int k = jb->next++;
+		if (w == NULL)
+			jb->oom = 1;
+		pthread_mutex_unlock(&jb->lock);
+		if (w == NULL || k >= jb->count || cli_stop)
+			break;
+		int st = fl_sweep(jb->m, jb->p, jb->sel[k], jb->fl, w, jb->res[k],
+		                  &jb->nres[k], &cli_stop);
+		jb->status[k] = st;
+	}
+	fl_work_free(w);
+	return NULL;
+}
+
+static void print_header(int linear)
+{
+	if (linear)
+		printf("# p0\tj\ta\tb\tl0\ta1\tnzero\tnneg\n");
+	else
+		printf("# p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres\n");
+}
+
+/* Bring the mesh to rest at p if it is not, so that l0 is a rest length. */
+static void relax_input(mesh *m, const model *p, const struct opts *o)
+{
+	energy_ws *ws = energy_ws_alloc(m);
+	double *g = malloc((2 * (size_t)m->nv + 1) * sizeof *g);
+	if (ws == NULL || g == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	mesh_energy(m, m->r, p, g, ws);
+	double f0 = grad_max_norm(m->nv, g);
+	energy_ws_free(ws);
+	free(g);
+	if (f0 <= o->fl.min.ftol || !o->relax)
+		return;
+	min_opts mo;
+	min_opts_init(&mo);
+	mo.ftol = o->fl.min.ftol;
+	min_report rep;
+	int st = mesh_relax(m, p, &mo, &rep);
+	if (st == MESH_ENOMEM)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (st == MESH_EINVAL)
+		cli_die(EXIT_INPUT, "relaxing the input at p0 %g would invert a cell", p->p0);
+	cli_warn("input not at rest at p0 %g (max force %.3g): relaxed to %.3g%s",
+	         p->p0, f0, rep.gnorm, st == MESH_OK ? "" : ", short of the tolerance");
+}
+
+int main(int argc, char **argv)
+{
+	cli_init("tis-forcelen", usage);
+	gsl_set_error_handler_off();
+	struct opts o = parse(argc, argv);
+	cli_catch_signals();
+	FILE *in = cli_open(o.input);
+	long line = 0;
+	mesh *m;
+	int nmesh = 0, badpoints = 0, allpoints = 0;
+	double worst = 0;
+	print_header(o.linear);
+	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
+		nmesh++;
+		model p = model_from_mesh(m);
+		if (o.has_p0)
+			p.p0 = o.p0;
+		if (o.has_ka)
+			p.ka = o.ka;
+		relax_input(m, &p, &o);
+		int count;
+		int *sel = select_junctions(&o, m, &count);
+
+		if (o.linear) {
+			fl_linear *lr;
+			mesh_error err;
+			int st = fl_linear_alloc(m, &p, 1e-10, &lr, &err);
+			if (st != MESH_OK)
+				cli_die(EXIT_INPUT, "%s", err.msg);
+			for (int k = 0; k < count; k++) {
+				int j = sel[k];
+				fl_lin_result r;
+				fl_linear_a1(lr, m, j, &r);
+				printf("%.10g\t%d\t%d\t%d\t%.12g\t%.12g\t%d\t%d\n", p.p0, j,
+				       m->jv[2 * j], m->jv[2 * j + 1],
+				       junction_length(m, m->r, j), r.a1, r.nzero, r.nneg);
+			}
+			fl_linear_free(lr);
+			free(sel);
+			mesh_free(m);
+			continue;
+		}
+
+		struct job jb = { .m = m, .p = &p, .fl = &o.fl, .sel = sel, .count = count };
+		jb.res = calloc((size_t)count + 1, sizeof *jb.res);
+		jb.nres = calloc((size_t)count + 1, sizeof *jb.nres);
+		jb.status = calloc((size_t)count + 1, sizeof *jb.status);
+		if (!jb.res || !jb.nres || !jb.status)
+			cli_die(EXIT_INPUT, "out of memory");
+		for (int k = 0; k < count; k++) {
+			jb.res[k] = malloc(((size_t)fl_npoints(m, sel[k], &o.fl) + 1) * sizeof **jb.res);
+			if (jb.res[k] == NULL)
+				cli_die(EXIT_INPUT, "out of memory");
+			jb.status[k] = -1;  /* not done */
+		}
+		pthread_mutex_init(&jb.lock, NULL);
+		int nt = o.threads < count ? o.threads : count;
+		pthread_t tid[64];
+		int started = 0;
+		for (int t = 1; t < nt; t++)
+			if (pthread_create(&tid[t], NULL, worker, &jb) == 0)
+				started++;
+		worker(&jb);
+		for (int t = 1; t <= started; t++)
+			pthread_join(tid[t], NULL);
+		pthread_mutex_destroy(&jb.lock);
+		if (jb.oom)
+			cli_die(EXIT_INPUT, "out of memory");
+
+		for (int k = 0; k < count; k++) {
+			int j = sel[k], st = jb.status[k];
+			if (st == -1 || (cli_stop && st != MESH_OK && st != MESH_ENOCONV))
+				break;   /* interrupted: only whole curves are written */
+			if (st != MESH_OK && st != MESH_ENOCONV)
+				cli_die(EXIT_INPUT, "junction %d: %s", j,
+				        st == MESH_ENOMEM ? "out of memory" : "sweep failed");
+			double l0 = junction_length(m, m->r, j);
+			for (int i = 0; i < jb.nres[k]; i++) {
+				const fl_point *q = &jb.res[k][i];
+				printf("%.10g\t%d\t%d\t%d\t%.12g\t%s\t%.12g\t%.12g\t%.15g\t%.3g\n",
+				       p.p0, j, m->jv[2 * j], m->jv[2 * j + 1], l0,
+				       fl_dir_name(q->dir), q->l, q->f, q->W, q->fres);
+				allpoints++;
+				if (q->status != MESH_OK) {
+					badpoints++;
+					if (!(q->fres <= worst))
+						worst = q->fres;
+				}
+			}
+		}
+		for (int k = 0; k < count; k++)
+			free(jb.res[k]);
+		free(jb.res);
+		free(jb.nres);
+		free(jb.status);
+		free(sel);
+		mesh_free(m);
+	}
+	if (in != stdin)
+		fclose(in);
+	if (cli_stop) {
+		fflush(stdout);
+		cli_die(EXIT_INPUT, "interrupted: only finished curves were written");
+	}
+	if (nmesh == 0)
+		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
+	if (badpoints) {
+		fflush(stdout);
+		cli_die(EXIT_NOCONV, "%d of %d points missed the force tolerance %g (worst %.3g)",
+		        badpoints, allpoints, o.fl.min.ftol, worst);
+	}
+	cli_finish();
+}
