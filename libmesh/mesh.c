@@ -563,13 +563,12 @@ int mesh_write(FILE *f, const mesh *m)
 	for (int i = 0; i < m->nhist; i++)
 		fprintf(f, "history %s\n", m->hist[i]);
 	fprintf(f, "vertices %d\n", m->nv);
-	for (int v = 0; v < m->nv; v++) {
-		/* + 0.0 turns -0 into 0 */
-		put_num(f, wrap1(m->r[2 * v], m->lx) + 0.0);
-		fputc(' ', f);
-		put_num(f, wrap1(m->r[2 * v + 1], m->ly) + 0.0);
-		fputc('\n', f);
-	}
+	/* Coordinates rarely have a short exact form, and the shortest-form
+	 * search costs three conversions each: plain %.17g is exact and fast.
+	 * + 0.0 turns -0 into 0. */
+	for (int v = 0; v < m->nv; v++)
+		fprintf(f, "%.17g %.17g\n", wrap1(m->r[2 * v], m->lx) + 0.0,
+			wrap1(m->r[2 * v + 1], m->ly) + 0.0);
 	fprintf(f, "cells %d\n", m->nc);
 	for (int k = 0; k < m->nc; k++) {
 		fprintf(f, "%d", m->coff[k + 1] - m->coff[k]);
