@@ -2,6 +2,7 @@
 
 #include <errno.h>
 #include <getopt.h>
+#include <gsl/gsl_errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -16,6 +17,8 @@ void cli_init(const char *name, const char *usage)
 	cli_name = name;
 	cli_usage_line = usage;
 	opterr = 0; /* getopt's own messages would name argv[0], not cli_name */
+	/* GSL's default handler aborts; libmesh checks GSL's status codes */
+	gsl_set_error_handler_off();
 }
 
 static void vmsg(const char *fmt, va_list ap)
