@@ -152,6 +152,23 @@ static double min_image_shift(double dx, double l)
 	return -l * nearbyint(dx / l);
 }
 
+/* Image offsets of cell k's corners from its junctions' offsets, walking
+ * round the cell.  They are sums of exact box multiples, so closing back to
+ * zero is an exact test: 0 if the cell wraps around the box. */
+static int cell_offsets(mesh *m, int k)
+{
+	double ox = 0, oy = 0;
+	for (int i = m->coff[k]; i < m->coff[k + 1]; i++) {
+		m->cimg[2 * i] = ox;
+		m->cimg[2 * i + 1] = oy;
+		int j = m->cj[i];
+		double sg = (m->jv[2 * j] == m->cv[i]) ? 1.0 : -1.0;
+		ox += sg * m->jimg[2 * j];
+		oy += sg * m->jimg[2 * j + 1];
+	}
+	return ox == 0 && oy == 0;
+}
+
 /* Signed area of cell k from its unwrapped polygon. */
 static double polygon_area(const mesh *m, int k)
 {
@@ -302,20 +319,8 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 	}
 	m->nj = nj;
 
-	/* Image offsets: walk each cell; the offsets are sums of exact box
-	 * multiples, so closing back to zero is an exact test. */
 	for (int k = 0; k < nc; k++) {
-		int s = m->coff[k], e = m->coff[k + 1];
-		double ox = 0, oy = 0;
-		for (int i = s; i < e; i++) {
-			m->cimg[2 * i] = ox;
-			m->cimg[2 * i + 1] = oy;
-			int j = m->cj[i];
-			double sg = (m->jv[2 * j] == m->cv[i]) ? 1.0 : -1.0;
-			ox += sg * m->jimg[2 * j];
-			oy += sg * m->jimg[2 * j + 1];
-		}
-		if (ox != 0 || oy != 0) {
+		if (!cell_offsets(m, k)) {
 			st = fail(err, LINE(k), MESH_EINVAL, "cell %d wraps around the periodic box", k);
 			goto out;
 		}
@@ -421,17 +426,8 @@ void mesh_wrap(mesh *m)
 		m->jimg[2 * j] = min_image_shift(m->r[2 * b] - m->r[2 * a], m->lx);
 		m->jimg[2 * j + 1] = min_image_shift(m->r[2 * b + 1] - m->r[2 * a + 1], m->ly);
 	}
-	for (int k = 0; k < m->nc; k++) {
-		double ox = 0, oy = 0;
-		for (int i = m->coff[k]; i < m->coff[k + 1]; i++) {
-			m->cimg[2 * i] = ox;
-			m->cimg[2 * i + 1] = oy;
-			int j = m->cj[i];
-			double sg = (m->jv[2 * j] == m->cv[i]) ? 1.0 : -1.0;
-			ox += sg * m->jimg[2 * j];
-			oy += sg * m->jimg[2 * j + 1];
-		}
-	}
+	for (int k = 0; k < m->nc; k++)
+		cell_offsets(m, k);
 }
 
 /* ---- parameters and history ---- */
