@@ -1,0 +1,104 @@
+/* dynamics.h - overdamped vertex dynamics with active junction tensions.
+ *
+ *   dr_i/dt = -grad_i W - sum_j dg_j grad_i l_j          (eta = 1)
+ *
+ * integrated with the paper's explicit Euler scheme: each step is as long
+ * as dt_max, but no vertex moves more than dr_max.  The tensions dg live
+ * in the mesh (m->dg, one per junction, NULL when none has state) and
+ * follow, on every "active" junction (all junctions unless a set is
+ * given),
+ *
+ *   DYN_OU:        d(dg)/dt = -dg/tau + sqrt(2 sigma^2/tau) xi
+ *   DYN_FEEDBACK:  d(dg)/dt = -dg/tau - (gamma0 + dg) (dl/dt)/l
+ *                             + sqrt(2 sigma^2/tau) xi        (paper eq. 1)
+ *
+ * The OU part is stepped exactly (noise.h); the feedback term by Euler,
+ * with dl/dt = e.(F_b - F_a) from the forces of the same step.
+ *
+ * With T1s on (t1_length > 0) a junction shorter than t1_length that got
+ * shorter since the previous step is T1'd (topology.h) to a new junction
+ * of length t1_new with tension 0.  Requiring it to be shrinking keeps a
+ * freshly made junction (which starts below the threshold) from being
+ * flipped straight back; if it then shrinks instead of growing, it is.
+ * A T1 that is not allowed (a triangle would lose a side) is counted and
+ * retried while the junction keeps shrinking.
+ */
+#ifndef TIS_DYNAMICS_H
+#define TIS_DYNAMICS_H
+
+#include <signal.h>
+
+#include "geom.h"
+#include "mesh.h"
+
+typedef enum {
+	DYN_OU,        /* pure Ornstein-Uhlenbeck tensions (sample preparation) */
+	DYN_FEEDBACK   /* tension feedback of paper eq. 1, plus optional noise */
+} dyn_mode;
+
+typedef struct {
+	double dt_max;     /* longest time step (1e-3) */
+	double dr_max;     /* largest vertex displacement per step (1e-3) */
+	double t1_length;  /* T1 threshold (0.01); 0 keeps the topology fixed */
+	double t1_new;     /* length of the junction a T1 makes (1e-3) */
+	double tau;        /* tension time constant tau_m (1) */
+	double sigma;      /* noise amplitude, long-time s.d. of dg (0) */
+	dyn_mode mode;     /* DYN_OU */
+	double gamma0;     /* DYN_FEEDBACK: ambient tension gamma0 (0) */
+	double l_stop;     /* T1s off: stop (MESH_EDOM) when a junction is
+	                      shorter than this or turned over in a step,
+	                      before it passes through 0 (1e-6) */
+} dyn_opts;
+
+void dyn_opts_init(dyn_opts *o);
+
+typedef struct {
+	double t;          /* time reached */
+	long nstep;        /* Euler steps (= force evaluations) */
+	long nt1;          /* T1s done */
+	long nt1_refused;  /* T1s not allowed */
+} dyn_counts;
+
+typedef struct dyn dyn;
+
+/* An integrator for m (which it updates in place and does not own) at
+ * model p, starting at t = 0.  The random stream is seeded with seed and
+ * created only when a noisy step needs it.  MESH_ENOMEM, MESH_EDOM. */
+int dyn_alloc(mesh *m, const model *p, const dyn_opts *o, unsigned long seed,
+              dyn **out, mesh_error *err);
+void dyn_free(dyn *d);
+
+/* The options in use; the caller may change them between dyn_run calls
+ * (a protocol of stages with different sigma, T1s on or off). */
+dyn_opts *dyn_options(dyn *d);
+
+/* Restrict tension dynamics to the junctions with active[j] != 0 (nj
+ * flags, copied; NULL: all junctions).  A T1 keeps junction indices, so
+ * the set follows its junctions (the new junction inherits the flag of the
+ * one it replaces).  A junction
+ * outside the set keeps dg = 0.  MESH_ENOMEM. */
+int dyn_set_active(dyn *d, const unsigned char *active);
+/* The current set in current junction numbering, or NULL for all. */
+const unsigned char *dyn_active(const dyn *d);
+
+/* Called after every step (frames, logs, progress): watching a run must
+ * not change it, so output happens at the first step at or after the time
+ * wanted instead of cutting a step short to land on it.  Return nonzero to
+ * end the run after this step. */
+typedef int (*dyn_observer)(dyn *d, void *data);
+
+/* Integrate until time t_end (the last step is shortened to end exactly
+ * there: stage boundaries are part of the protocol), or until *stop (if
+ * stop is not NULL) becomes nonzero or obs (if not NULL) returns nonzero,
+ * which ends the run after the current step with the mesh valid.  MESH_OK;
+ * MESH_EDOM if the state became non-finite or a junction collapsed to zero
+ * length (T1s off or refused); MESH_ENOMEM. */
+int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
+            dyn_observer obs, void *data, mesh_error *err);
+
+void dyn_counts_get(const dyn *d, dyn_counts *c);
+
+/* W at the mesh's current coordinates (no gradient). */
+double dyn_energy(dyn *d);
+
+#endif

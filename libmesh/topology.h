@@ -1,0 +1,36 @@
+/* topology.h - topology changes: T1 transitions.
+ *
+ * A T1 on junction a-b (cell L on its left, R on its right, Ca the third
+ * cell at a, Cb the third cell at b) swaps neighbours: L and R stop
+ * touching, Ca and Cb become neighbours across a new junction a-b that is
+ * the old one rotated by 90 degrees about its midpoint.  L and R lose a
+ * side, Ca and Cb gain one; nv, nc, nj and every junction's index are
+ * unchanged (so an energy_ws and per-junction arrays stay valid: a-t
+ * becomes b-t and b-q becomes a-q under the same index, and the new a-b
+ * keeps the index of the old one).  Works on the minimum
+ * image: a junction that crosses the box edge is rotated about its true
+ * midpoint.
+ *
+ *         \   L   /                \  L  /
+ *          a-----b       ->          a
+ *     Ca  /       \  Cb        Ca    |    Cb
+ *              R                     b
+ *                                  /  R  \
+ *
+ * (L is on the left of a->b; a stays in L, b in R.)
+ */
+#ifndef TIS_TOPOLOGY_H
+#define TIS_TOPOLOGY_H
+
+#include "mesh.h"
+
+/* T1 on junction j; the new junction gets length lnew (> 0) and tension 0
+ * (m->dg[j] = 0; every other junction keeps its tension).  The update is
+ * local (O(1) work plus one O(N) copy of the cell arrays), and the four
+ * cells are checked: closed around the box, positive area.  Returns
+ * MESH_OK; MESH_EDOM, with the mesh unchanged, when the T1 is not allowed
+ * (L or R is a triangle, a or b is not three-fold, the four cells are not
+ * distinct, or a cell would get non-positive area); MESH_ENOMEM. */
+int mesh_t1(mesh *m, int j, double lnew, mesh_error *err);
+
+#endif

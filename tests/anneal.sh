@@ -1,0 +1,78 @@
+#!/bin/sh
+# tis-anneal: options, bad input, determinism, frames, log, protocol,
+# signals.  Short runs on a 6x6 tissue.
+. "$(dirname "$0")/lib.sh"
+
+plan 28
+
+# a mesh is valid when tis-anneal reads it back (mesh_build checks every
+# invariant) through a zero-length run
+valid() { tis-anneal --stage 0:0 --relax 0 "$1" >/dev/null 2>"$T/verr"; }
+nmesh() { grep -c '^tismesh 1$' "$1"; }
+
+tis-hex 6 6 --p0 3.65 >"$T/hex.mesh" || exit 1
+
+ok "--help exits 0 and names --stage" sh -c 'tis-anneal --help | grep -q -- --stage'
+ok "--version" sh -c 'tis-anneal --version | grep -q "^tis-anneal (tis)"'
+fails_with 2 "unknown option" tis-anneal --bogus "$T/hex.mesh"
+fails_with 2 "--sigma nan" tis-anneal --sigma nan "$T/hex.mesh"
+fails_with 2 "--sigma negative" tis-anneal --sigma -1 "$T/hex.mesh"
+fails_with 2 "--stage without a colon" tis-anneal --stage 0.5 "$T/hex.mesh"
+fails_with 2 "--stage with a bad duration" tis-anneal --stage 0.5:x "$T/hex.mesh"
+fails_with 2 "--sigma together with --stage" tis-anneal --sigma 0.2 --stage 0.5:1 "$T/hex.mesh"
+fails_with 2 "--dt 0" tis-anneal --dt 0 "$T/hex.mesh"
+fails_with 2 "--seed not an integer" tis-anneal --seed 1.5 "$T/hex.mesh"
+fails_with 1 "missing input file" tis-anneal "$T/nonexistent.mesh"
+printf 'tismesh 1\nbox 1 1\nvertices 3\n0 0\n' >"$T/bad.mesh"
+fails_with 1 "truncated mesh" tis-anneal --stage 0:1 "$T/bad.mesh"
+
+fails_with 1 "T1s off under noise: stops before a junction passes through zero" \
+	tis-anneal --t1 0 --stage 0.5:50 --relax 0 "$T/hex.mesh"
+
+# a short noisy protocol on stdin, twice with one seed, once with another
+run() { tis-anneal --stage 0.5:4 --stage 0.1:2 --relax 2 --seed "$1" <"$T/hex.mesh"; }
+run 5 >"$T/a.mesh" 2>"$T/a.err" && run 5 >"$T/b.mesh" && run 6 >"$T/c.mesh"
+ok "short protocol writes a valid mesh" valid "$T/a.mesh"
+ok "the same seed gives the same bytes" cmp -s "$T/a.mesh" "$T/b.mesh"
+ok "another seed gives another mesh" sh -c "! cmp -s '$T/a.mesh' '$T/c.mesh'"
+ok "history line says the protocol, the relax method and the T1 count" \
+	grep -Eq '^history tis-anneal .*# stages 0.5:4 0.1:2, relax 2 by sigma=0 Euler dynamics.* [0-9]+ T1s' "$T/a.mesh"
+ok "nothing on stderr when it is not a terminal" test ! -s "$T/a.err"
+ok "a relaxed mesh has no tension state" sh -c "! grep -q '^junctions' '$T/a.mesh'"
+tis-anneal --stage 0.5:2 --relax 0 "$T/hex.mesh" >"$T/t.mesh"
+ok "without relaxation the tensions are written" grep -q '^junctions' "$T/t.mesh"
+
+# sigma 0 on a honeycomb: force-free, nothing happens, no tension state
+tis-anneal --stage 0:3 --relax 0 --p0 3.65 "$T/hex.mesh" >"$T/z.mesh"
+sed -n '/^cells/,$p' "$T/hex.mesh" >"$T/c1"; sed -n '/^cells/,$p' "$T/z.mesh" >"$T/c2"
+ok "sigma 0: a force-free honeycomb keeps its cells, no tension state" cmp -s "$T/c1" "$T/c2"
+sed -n '/^vertices/,/^cells/p' "$T/hex.mesh" >"$T/v1"; sed -n '/^vertices/,/^cells/p' "$T/z.mesh" >"$T/v2"
+ok "sigma 0: vertices move by rounding only" sh -c "paste '$T/v1' '$T/v2' | awk 'NF == 4 {
+	d = \$1 - \$3; e = \$2 - \$4; if (d * d + e * e > 1e-20) exit 1 }'"
+
+# frames and log: --every 1 over 3.5 time units gives frames at (the
+# first steps after) 1, 2, 3 and the final mesh
+tis-anneal --stage 0.5:3.5 --relax 0 --every 1 --log "$T/log.tsv" --p0 3.7 "$T/hex.mesh" >"$T/frames"
+ok "--every writes a stream of 4 meshes" test "$(nmesh "$T/frames")" -eq 4
+tis-anneal --stage 0.5:3.5 --relax 0 --p0 3.7 "$T/hex.mesh" >"$T/plain"
+sed -n '/final t/,$p' "$T/frames" | grep -v '^#' | grep -v '^history' >"$T/f1"
+grep -v '^history' "$T/plain" >"$T/f2"
+ok "watching (frames, log) does not change the run" cmp -s "$T/f1" "$T/f2"
+ok "--p0 overrides the mesh parameter" sh -c "grep -q '^param p0 3.7$' '$T/frames'"
+ok "log: header, rows at t = 0..3, T1 count never decreases" awk -F'\t' '
+	NR == 1 { if ($0 != "# t\tf6\tenergy\tt1") exit 1; next }
+	{ if ($1 < NR - 2 || $1 > NR - 2 + 0.01 || $2 < 0 || $2 > 1 || $4 < last) exit 1
+	  last = $4; n++ }
+	END { exit n != 4 }' "$T/log.tsv"
+
+# SIGTERM: stop at the end of a step, write a valid mesh, exit 3
+tis-anneal --stage 0.5:100000 "$T/hex.mesh" >"$T/sig.mesh" 2>"$T/sig.err" &
+pid=$!
+sleep 1
+kill -TERM "$pid"
+wait "$pid"; st=$?
+ok "SIGTERM: exit 3 with one message" sh -c "[ $st -eq 3 ] && [ \$(wc -l <'$T/sig.err') -eq 1 ]"
+ok "SIGTERM: the mesh written is valid and says it was interrupted" \
+	sh -c "valid() { tis-anneal --stage 0:0 --relax 0 \"\$1\" >/dev/null; }; valid '$T/sig.mesh' && grep -q 'interrupted' '$T/sig.mesh'"
+
+done_testing

@@ -1,0 +1,214 @@
+/* T1 transitions: topology of one T1 on a honeycomb, its reverse, a T1
+ * across the periodic box edge, refusal at triangles, and invariants after
+ * 10^4 T1s in a noisy run.  "Valid" means: mesh_build on a copy accepts it
+ * (every invariant) and the in-place derived arrays give the same energy
+ * and gradient as the freshly built ones. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "dynamics.h"
+#include "geom.h"
+#include "lattice.h"
+#include "tap.h"
+#include "topology.h"
+
+static int valid(const mesh *m, const model *p)
+{
+	mesh *c = mesh_copy(m);
+	mesh_error err;
+	if (c == NULL || mesh_build(c, NULL, &err) != MESH_OK) {
+		diag("mesh_build: %s", c ? err.msg : "out of memory");
+		mesh_free(c);
+		return 0;
+	}
+	energy_ws *w1 = energy_ws_alloc(m), *w2 = energy_ws_alloc(c);
+	double *g1 = malloc(2 * m->nv * sizeof *g1), *g2 = malloc(2 * m->nv * sizeof *g2);
+	double W1 = mesh_energy(m, m->r, p, g1, w1), W2 = mesh_energy(c, c->r, p, g2, w2);
+	double gd = 0;
+	for (int i = 0; i < 2 * m->nv; i++)
+		if (fabs(g1[i] - g2[i]) > gd)
+			gd = fabs(g1[i] - g2[i]);
+	int good = fabs(W1 - W2) <= 1e-10 * (1 + W2) && gd <= 1e-9;
+	if (!good)
+		diag("energy %.17g vs rebuilt %.17g, gradient diff %.3g", W1, W2, gd);
+	/* tensions kept by vertex pair in the rebuilt copy must agree */
+	if (m->dg)
+		for (int j = 0; j < m->nj; j++) {
+			int k = mesh_junction_find(c, m->jv[2 * j], m->jv[2 * j + 1]);
+			if (k < 0 || (c->dg ? c->dg[k] : 0) != m->dg[j]) {
+				diag("tension of junction %d lost", j);
+				good = 0;
+				break;
+			}
+		}
+	energy_ws_free(w1);
+	energy_ws_free(w2);
+	free(g1);
+	free(g2);
+	mesh_free(c);
+	return good;
+}
+
+static void side_hist(const mesh *m, int h[16])
+{
+	memset(h, 0, 16 * sizeof *h);
+	for (int k = 0; k < m->nc; k++) {
+		int n = m->coff[k + 1] - m->coff[k];
+		h[n < 16 ? n : 15]++;
+	}
+}
+
+/* Cell k of m and cell k of o hold the same cycle, with vertices a and b
+ * of o exchanged (as a double T1 leaves them). */
+static int same_cells_swapped(const mesh *m, const mesh *o, int a, int b)
+{
+	if (m->nc != o->nc)
+		return 0;
+	for (int k = 0; k < m->nc; k++) {
+		int n = m->coff[k + 1] - m->coff[k];
+		if (n != o->coff[k + 1] - o->coff[k])
+			return 0;
+		const int *x = m->cv + m->coff[k], *y = o->cv + o->coff[k];
+		int found = 0;
+		for (int s = 0; s < n && !found; s++) {
+			int eq = 1;
+			for (int i = 0; i < n && eq; i++) {
+				int v = y[i];
+				v = v == a ? b : v == b ? a : v;
+				eq = x[(s + i) % n] == v;
+			}
+			found = eq;
+		}
+		if (!found)
+			return 0;
+	}
+	return 1;
+}
+
+int main(void)
+{
+	tap_plan(23);
+	model p = { .p0 = 3.65, .ka = 100 };
+	mesh_error err;
+	mesh *m;
+	lattice_honeycomb(6, 6, &m, &err);
+	mesh *orig = mesh_copy(m);
+	int h[16];
+
+	/* One T1 in the middle of the box. */
+	int j = -1;
+	for (int k = 0; k < m->nj && j < 0; k++)
+		if (m->jimg[2 * k] == 0 && m->jimg[2 * k + 1] == 0)
+			j = k;
+	mesh_tension_alloc(m);
+	for (int k = 0; k < m->nj; k++)
+		m->dg[k] = 0.01 * (k + 1);
+	double d0[2], d1[2];
+	double l0 = junction_vec(m, m->r, j, d0);
+	double c0x = m->r[2 * m->jv[2 * j]] + 0.5 * d0[0], c0y = m->r[2 * m->jv[2 * j] + 1] + 0.5 * d0[1];
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+	int L = m->jc[2 * j], R = m->jc[2 * j + 1];
+	ok(mesh_t1(m, j, 1e-3, &err) == MESH_OK, "T1 on an inner junction");
+	side_hist(m, h);
+	ok(h[5] == 2 && h[7] == 2 && h[6] == m->nc - 4, "two pentagons, two heptagons, the rest hexagons");
+	ok(m->coff[L + 1] - m->coff[L] == 5 && m->coff[R + 1] - m->coff[R] == 5,
+	   "the two cells that shared the junction lost a side");
+	double l1 = junction_vec(m, m->r, j, d1);
+	is_near(l1, 1e-3, 1e-15, "new junction has length 1e-3");
+	is_near((d0[0] * d1[0] + d0[1] * d1[1]) / (l0 * l1), 0, 1e-12, "new junction is perpendicular to the old");
+	double c1x = m->r[2 * m->jv[2 * j]] + 0.5 * d1[0], c1y = m->r[2 * m->jv[2 * j] + 1] + 0.5 * d1[1];
+	ok(fabs(c1x - c0x) < 1e-14 && fabs(c1y - c0y) < 1e-14, "about the old midpoint");
+	ok(m->dg[j] == 0, "new junction has tension 0");
+	ok(valid(m, &p), "all invariants hold after the T1 (tensions carried)");
+
+	/* The reverse T1 gives back the original topology (a and b trade
+	 * places, as any T1 leaves the new junction's vertices). */
+	ok(mesh_t1(m, j, 1e-3, &err) == MESH_OK, "reverse T1");
+	side_hist(m, h);
+	ok(h[6] == m->nc, "all hexagons again");
+	ok(same_cells_swapped(m, orig, a, b), "original cells, up to a <-> b");
+	ok(valid(m, &p), "all invariants hold after the reverse T1");
+
+	/* A junction that crosses the box edge (x and y). */
+	mesh *e = mesh_copy(orig);
+	int jx = -1;
+	for (int k = 0; k < e->nj && jx < 0; k++)
+		if (e->jimg[2 * k] != 0 && e->jimg[2 * k + 1] != 0)
+			jx = k;
+	if (jx < 0)
+		for (int k = 0; k < e->nj && jx < 0; k++)
+			if (e->jimg[2 * k] != 0 || e->jimg[2 * k + 1] != 0)
+				jx = k;
+	double area0 = cell_area(e, e->r, e->jc[2 * jx]);
+	ok(jx >= 0 && mesh_t1(e, jx, 1e-3, &err) == MESH_OK, "T1 on a junction across the box edge");
+	side_hist(e, h);
+	ok(h[5] == 2 && h[7] == 2 && valid(e, &p), "across the edge: 5,5,7,7 and all invariants hold");
+	double asum = 0, amin = INFINITY;
+	for (int k = 0; k < e->nc; k++) {
+		double ak = cell_area(e, e->r, k);
+		asum += ak;
+		amin = ak < amin ? ak : amin;
+	}
+	ok(amin > 0.5 * area0 && fabs(asum - e->lx * e->ly) < 1e-9,
+	   "across the edge: areas positive (min %.4f) and add up to the box", amin);
+	is_near(junction_length(e, e->r, jx), 1e-3, 1e-15, "across the edge: new length 1e-3 (minimum image)");
+
+	/* Shrink one cell to a triangle by T1s on its junctions; the next T1
+	 * on it is refused and leaves the mesh as it was. */
+	mesh *t = mesh_copy(orig);
+	int cell = 7;
+	for (int round = 0; round < 3; round++) {
+		for (int i = t->coff[cell]; i < t->coff[cell + 1]; i++) {
+			int k = t->cj[i];
+			int other = t->jc[2 * k] == cell ? t->jc[2 * k + 1] : t->jc[2 * k];
+			if (t->coff[other + 1] - t->coff[other] > 4 && mesh_t1(t, k, 1e-3, &err) == MESH_OK)
+				break;
+		}
+	}
+	ok(t->coff[cell + 1] - t->coff[cell] == 3 && valid(t, &p), "three T1s make a triangle");
+	mesh *before = mesh_copy(t);
+	int st = mesh_t1(t, t->cj[t->coff[cell]], 1e-3, &err);
+	ok(st == MESH_EDOM && strstr(err.msg, "fewer than 3") != NULL, "T1 on a triangle is refused: %s", err.msg);
+	ok(memcmp(t->cv, before->cv, t->coff[t->nc] * sizeof *t->cv) == 0 &&
+	   memcmp(t->r, before->r, 2 * t->nv * sizeof *t->r) == 0, "refused T1 leaves the mesh unchanged");
+	ok(mesh_t1(t, -1, 1e-3, &err) == MESH_EDOM && mesh_t1(t, 0, 0, &err) == MESH_EDOM,
+	   "bad junction index or length is refused");
+
+	/* 10^4 T1s in a noisy run. */
+	mesh *n = mesh_copy(orig);
+	dyn_opts o;
+	dyn_opts_init(&o);
+	o.sigma = 0.5;
+	dyn *dy;
+	dyn_alloc(n, &p, &o, 11, &dy, &err);
+	dyn_counts c = { 0 };
+	int allvalid = 1, checks = 0;
+	double tt = 0;
+	while (c.nt1 < 10000 && tt < 2000) {
+		tt += 2;
+		if (dyn_run(dy, tt, NULL, NULL, NULL, &err) != MESH_OK) {
+			diag("dyn_run: %s", err.msg);
+			allvalid = 0;
+			break;
+		}
+		dyn_counts_get(dy, &c);
+		checks++;
+		if (!valid(n, &p))
+			allvalid = 0;
+	}
+	diag("noisy run: t %.0f, %ld steps, %ld T1s, %ld refused", c.t, c.nstep, c.nt1, c.nt1_refused);
+	ok(c.nt1 >= 10000, "at least 10^4 T1s (%ld)", c.nt1);
+	ok(allvalid, "all invariants held at %d checks along the run", checks);
+	side_hist(n, h);
+	ok(h[6] < n->nc, "the noisy tissue is disordered (f6 %.2f)", (double)h[6] / n->nc);
+
+	dyn_free(dy);
+	mesh_free(n);
+	mesh_free(t);
+	mesh_free(before);
+	mesh_free(e);
+	mesh_free(orig);
+	mesh_free(m);
+	return tap_done();
+}
