@@ -13,11 +13,7 @@
 
 static int fail(mesh_error *err, int st, const char *msg)
 {
-	if (err) {
-		err->line = 0;
-		snprintf(err->msg, sizeof err->msg, "%s", msg);
-	}
-	return st;
+	return mesh_error_set(err, 0, st, "%s", msg);
 }
 
 int fit_poly(int n, const double *l, const double *f, double l0, double window,

@@ -13,9 +13,7 @@
  * corrupt header cannot ask for more memory than the index type can hold. */
 #define MESH_MAX_COUNT (INT_MAX / 8)
 
-static int fail(mesh_error *err, long line, int status, const char *fmt, ...)
-	__attribute__((format(printf, 4, 5)));
-static int fail(mesh_error *err, long line, int status, const char *fmt, ...)
+int mesh_error_set(mesh_error *err, long line, int status, const char *fmt, ...)
 {
 	if (err) {
 		va_list ap;
@@ -200,16 +198,16 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 	free_derived(m);
 
 	if (!(m->lx > 0 && m->ly > 0 && isfinite(m->lx) && isfinite(m->ly))) {
-		st = fail(err, 0, MESH_EINVAL, "box must have positive finite sides");
+		st = mesh_error_set(err, 0, MESH_EINVAL, "box must have positive finite sides");
 		goto out;
 	}
 	if (nc < 1 || nv < 3) {
-		st = fail(err, 0, MESH_EINVAL, "a tissue needs at least one cell and three vertices");
+		st = mesh_error_set(err, 0, MESH_EINVAL, "a tissue needs at least one cell and three vertices");
 		goto out;
 	}
 	for (int i = 0; i < 2 * nv; i++)
 		if (!isfinite(m->r[i])) {
-			st = fail(err, 0, MESH_EINVAL, "vertex %d has a non-finite coordinate", i / 2);
+			st = mesh_error_set(err, 0, MESH_EINVAL, "vertex %d has a non-finite coordinate", i / 2);
 			goto out;
 		}
 
@@ -231,17 +229,17 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 	for (int k = 0; k < nc; k++) {
 		int s = m->coff[k], e = m->coff[k + 1];
 		if (e - s < 3) {
-			st = fail(err, LINE(k), MESH_EINVAL, "cell %d has %d sides, at least 3 needed", k, e - s);
+			st = mesh_error_set(err, LINE(k), MESH_EINVAL, "cell %d has %d sides, at least 3 needed", k, e - s);
 			goto out;
 		}
 		for (int i = s; i < e; i++) {
 			int v = m->cv[i];
 			if (v < 0 || v >= nv) {
-				st = fail(err, LINE(k), MESH_EINVAL, "cell %d: vertex id %d out of range 0..%d", k, v, nv - 1);
+				st = mesh_error_set(err, LINE(k), MESH_EINVAL, "cell %d: vertex id %d out of range 0..%d", k, v, nv - 1);
 				goto out;
 			}
 			if (used[v] == k + 1) {
-				st = fail(err, LINE(k), MESH_EINVAL, "cell %d visits vertex %d twice", k, v);
+				st = mesh_error_set(err, LINE(k), MESH_EINVAL, "cell %d visits vertex %d twice", k, v);
 				goto out;
 			}
 			used[v] = k + 1;
@@ -250,7 +248,7 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 	}
 	for (int v = 0; v < nv; v++) {
 		if (!used[v]) {
-			st = fail(err, 0, MESH_EINVAL, "vertex %d belongs to no cell", v);
+			st = mesh_error_set(err, 0, MESH_EINVAL, "vertex %d belongs to no cell", v);
 			goto out;
 		}
 		outoff[v + 1] += outoff[v];
@@ -279,7 +277,7 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 		for (int t = outoff[a]; t < outoff[a + 1]; t++) {
 			int c = outc[t];
 			if (c != i && m->cv[NEXT(c)] == b) {
-				st = fail(err, LINE(ccell[c] > k ? ccell[c] : k), MESH_EINVAL,
+				st = mesh_error_set(err, LINE(ccell[c] > k ? ccell[c] : k), MESH_EINVAL,
 					  "edge %d-%d runs the same way in cells %d and %d "
 					  "(a clockwise cell, or a junction in more than two cells)",
 					  a, b, k, ccell[c]);
@@ -292,18 +290,18 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 				rev = c;
 		}
 		if (rev < 0) {
-			st = fail(err, LINE(k), MESH_EINVAL, "junction %d-%d belongs to cell %d only", a, b, k);
+			st = mesh_error_set(err, LINE(k), MESH_EINVAL, "junction %d-%d belongs to cell %d only", a, b, k);
 			goto out;
 		}
 		if (ccell[rev] == k) {
-			st = fail(err, LINE(k), MESH_EINVAL, "cell %d runs along junction %d-%d both ways", k, a, b);
+			st = mesh_error_set(err, LINE(k), MESH_EINVAL, "cell %d runs along junction %d-%d both ways", k, a, b);
 			goto out;
 		}
 		double dx = m->r[2 * b] - m->r[2 * a], dy = m->r[2 * b + 1] - m->r[2 * a + 1];
 		double sx = min_image_shift(dx, m->lx), sy = min_image_shift(dy, m->ly);
 		double len = hypot(dx + sx, dy + sy);
 		if (!(len < half)) {
-			st = fail(err, LINE(k), MESH_EINVAL,
+			st = mesh_error_set(err, LINE(k), MESH_EINVAL,
 				  "junction %d-%d of cell %d has length %.6g, not shorter than half the box (%.6g)",
 				  a, b, k, len, half);
 			goto out;
@@ -321,7 +319,7 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 
 	for (int k = 0; k < nc; k++) {
 		if (!cell_offsets(m, k)) {
-			st = fail(err, LINE(k), MESH_EINVAL, "cell %d wraps around the periodic box", k);
+			st = mesh_error_set(err, LINE(k), MESH_EINVAL, "cell %d wraps around the periodic box", k);
 			goto out;
 		}
 	}
@@ -329,7 +327,7 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 	for (int k = 0; k < nc; k++) {
 		double a = polygon_area(m, k);
 		if (!(a > 0)) {
-			st = fail(err, LINE(k), MESH_EINVAL,
+			st = mesh_error_set(err, LINE(k), MESH_EINVAL,
 				  "cell %d has area %.6g; cells must be counter-clockwise with positive area", k, a);
 			goto out;
 		}
@@ -337,7 +335,7 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 	}
 	double box = m->lx * m->ly;
 	if (fabs(asum - box) > 1e-9 * box) {
-		st = fail(err, 0, MESH_EINVAL,
+		st = mesh_error_set(err, 0, MESH_EINVAL,
 			  "cell areas add up to %.12g, not the box area %.12g (overlapping or missing cells)",
 			  asum, box);
 		goto out;
@@ -386,13 +384,13 @@ int mesh_from_cells(double lx, double ly, int nv, const double *r, int nc,
 	*out = NULL;
 	if (nv < 0 || nc < 0 || nv > MESH_MAX_COUNT || nc > MESH_MAX_COUNT ||
 	    coff[0] != 0)
-		return fail(err, 0, MESH_EINVAL, "bad vertex or cell count");
+		return mesh_error_set(err, 0, MESH_EINVAL, "bad vertex or cell count");
 	for (int k = 0; k < nc; k++)
 		if (coff[k + 1] < coff[k] || coff[k + 1] > MESH_MAX_COUNT)
-			return fail(err, 0, MESH_EINVAL, "bad cell offsets");
+			return mesh_error_set(err, 0, MESH_EINVAL, "bad cell offsets");
 	mesh *m = mesh_alloc(lx, ly);
 	if (m == NULL)
-		return fail(err, 0, MESH_ENOMEM, "out of memory");
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	int nk = coff[nc];
 	m->nv = nv;
 	m->nc = nc;
@@ -402,7 +400,7 @@ int mesh_from_cells(double lx, double ly, int nv, const double *r, int nc,
 	m->cv = dup_array(cv, nk, sizeof *cv);
 	if (!m->r || !m->coff || !m->cv) {
 		mesh_free(m);
-		return fail(err, 0, MESH_ENOMEM, "out of memory");
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	}
 	int st = mesh_build(m, NULL, err);
 	if (st != MESH_OK) {
@@ -700,10 +698,10 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 	int st = MESH_EINVAL;
 	int have_box = 0;
 
-#define EOFERR(what) do { st = n < 0 ? fail(err, *rd->line, MESH_EIO, "read error: %s", strerror(errno)) \
-	: fail(err, *rd->line, MESH_EINVAL, "unexpected end of input: %s", what); goto out; } while (0)
-#define NOMEM() do { st = fail(err, *rd->line, MESH_ENOMEM, "out of memory"); goto out; } while (0)
-#define BAD(...) do { st = fail(err, L, MESH_EINVAL, __VA_ARGS__); goto out; } while (0)
+#define EOFERR(what) do { st = n < 0 ? mesh_error_set(err, *rd->line, MESH_EIO, "read error: %s", strerror(errno)) \
+	: mesh_error_set(err, *rd->line, MESH_EINVAL, "unexpected end of input: %s", what); goto out; } while (0)
+#define NOMEM() do { st = mesh_error_set(err, *rd->line, MESH_ENOMEM, "out of memory"); goto out; } while (0)
+#define BAD(...) do { st = mesh_error_set(err, L, MESH_EINVAL, __VA_ARGS__); goto out; } while (0)
 
 	/* header: box, param, history, up to "vertices" */
 	for (;;) {
@@ -891,16 +889,16 @@ int mesh_read(FILE *f, long *line, mesh **out, mesh_error *err)
 	}
 	if (n < 0) {
 		free(rd.buf);
-		return fail(err, *line, MESH_EIO, "read error: %s", strerror(errno));
+		return mesh_error_set(err, *line, MESH_EIO, "read error: %s", strerror(errno));
 	}
 	if (rd.ntok != 2 || strcmp(rd.tok[0], "tismesh") != 0 || strcmp(rd.tok[1], "1") != 0) {
 		free(rd.buf);
-		return fail(err, *line, MESH_EINVAL, "not a tismesh 1 file (expected 'tismesh 1')");
+		return mesh_error_set(err, *line, MESH_EINVAL, "not a tismesh 1 file (expected 'tismesh 1')");
 	}
 	mesh *m = mesh_alloc(0, 0);
 	if (m == NULL) {
 		free(rd.buf);
-		return fail(err, *line, MESH_ENOMEM, "out of memory");
+		return mesh_error_set(err, *line, MESH_ENOMEM, "out of memory");
 	}
 	int st = read_body(&rd, m, err);
 	free(rd.buf);

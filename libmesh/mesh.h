@@ -63,6 +63,11 @@ typedef struct mesh {
 	char **hist;
 } mesh;
 
+/* Fill err (if not NULL) with line and a printf-style message, and return
+ * status: the one way every libmesh module reports a failure. */
+int mesh_error_set(mesh_error *err, long line, int status, const char *fmt, ...)
+	__attribute__((format(printf, 4, 5)));
+
 /* A new empty mesh (no vertices, no cells) in an lx by ly box. */
 mesh *mesh_alloc(double lx, double ly);
 void mesh_free(mesh *m);

@@ -68,20 +68,7 @@ struct Failure {
 	int status;
 };
 
-__attribute__((format(printf, 3, 4)))
-int set_error(mesh_error *err, int status, const char *fmt, ...)
-{
-	if (err) {
-		va_list ap;
-		err->line = 0;
-		va_start(ap, fmt);
-		std::vsnprintf(err->msg, sizeof err->msg, fmt, ap);
-		va_end(ap);
-	}
-	return status;
-}
-
-#define FAIL(err, status, ...) throw Failure{set_error((err), (status), __VA_ARGS__)}
+#define FAIL(err, status, ...) throw Failure{mesh_error_set((err), 0, (status), __VA_ARGS__)}
 
 /* Run f, turning every exception into a status: nothing may unwind into C. */
 template <class F>
@@ -92,11 +79,11 @@ int guarded(mesh_error *err, F f)
 	} catch (const Failure &e) {
 		return e.status;
 	} catch (const std::bad_alloc &) {
-		return set_error(err, MESH_ENOMEM, "out of memory");
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	} catch (const std::exception &e) {
-		return set_error(err, MESH_EINVAL, "triangulation failed: %s", e.what());
+		return mesh_error_set(err, 0, MESH_EINVAL, "triangulation failed: %s", e.what());
 	} catch (...) {
-		return set_error(err, MESH_EINVAL, "triangulation failed");
+		return mesh_error_set(err, 0, MESH_EINVAL, "triangulation failed");
 	}
 }
 
@@ -472,14 +459,14 @@ extern "C" int voronoi_seeds_random(unsigned long seed, double lx, double ly, in
                                     double *xy, mesh_error *err)
 {
 	if (!(lx > 0 && ly > 0 && std::isfinite(lx) && std::isfinite(ly)) || n < 0)
-		return set_error(err, MESH_EINVAL, "box must have positive finite sides");
+		return mesh_error_set(err, 0, MESH_EINVAL, "box must have positive finite sides");
 	/* A gsl_rng on the stack: gsl_rng_alloc would call GSL's error
 	 * handler, which aborts, when out of memory. */
 	gsl_rng r;
 	r.type = gsl_rng_mt19937;
 	r.state = std::malloc(r.type->size);
 	if (r.state == NULL)
-		return set_error(err, MESH_ENOMEM, "out of memory");
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	gsl_rng_set(&r, seed);
 	for (int i = 0; i < n; i++) {
 		/* u * l can round up to l: wrap keeps the half-open box */
@@ -516,22 +503,18 @@ extern "C" int voronoi_seeds_read(FILE *f, double **xy, int *n, mesh_error *err)
 		while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n')
 			p++;
 		if (!good || *p != '\0' || std::strlen(line) != len) {
-			st = set_error(err, MESH_EINVAL, "expected two finite numbers 'x y'");
-			if (err)
-				err->line = lineno;
+			st = mesh_error_set(err, lineno, MESH_EINVAL, "expected two finite numbers 'x y'");
 			goto out;
 		}
 		if (*n >= max_seeds) {
-			st = set_error(err, MESH_EINVAL, "too many seeds (at most %d)", max_seeds);
-			if (err)
-				err->line = lineno;
+			st = mesh_error_set(err, lineno, MESH_EINVAL, "too many seeds (at most %d)", max_seeds);
 			goto out;
 		}
 		if ((size_t)*n == size) {
 			size_t ns = size ? 2 * size : 1024;
 			double *nv = (double *)std::realloc(v, 2 * ns * sizeof *v);
 			if (nv == NULL) {
-				st = set_error(err, MESH_ENOMEM, "out of memory");
+				st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 				goto out;
 			}
 			v = nv;
@@ -542,7 +525,7 @@ extern "C" int voronoi_seeds_read(FILE *f, double **xy, int *n, mesh_error *err)
 		(*n)++;
 	}
 	if (std::ferror(f)) {
-		st = set_error(err, MESH_EIO, "read error: %s", std::strerror(errno));
+		st = mesh_error_set(err, 0, MESH_EIO, "read error: %s", std::strerror(errno));
 		goto out;
 	}
 out:
@@ -572,10 +555,10 @@ extern "C" int voronoi_tissue(double lx, double ly, int n, const double *xy,
 		int st = mesh_from_cells(lx, ly, t.nv(), r.data(), n, t.coff.data(), t.cv.data(),
 		                         out, &merr);
 		if (st == MESH_EINVAL)
-			return set_error(err, st, "these seeds give no valid periodic tissue: %s",
+			return mesh_error_set(err, 0, st, "these seeds give no valid periodic tissue: %s",
 			                 merr.msg);
 		if (st != MESH_OK)
-			return set_error(err, st, "%s", merr.msg);
+			return mesh_error_set(err, 0, st, "%s", merr.msg);
 		if (info) {
 			info->nsplit = t.nsplit;
 			info->npoints = t.npoints;
