@@ -4,8 +4,9 @@
  *
  * Reads a mesh, optionally displaces every coordinate uniformly in
  * [-AMP, AMP) (deterministic LCG from SEED), and relaxes copies of it at p0
- * with every method, with and without the Newton polish, to each target max
- * force.  One TSV row per run: the time is the best of up to 5 repeats
+ * with every method, with and without the Newton polish (which is
+ * preconditioned or not), to each target max force; Newton-CG with and
+ * without the preconditioner.  One TSV row per run: the time is the best of up to 5 repeats
  * (repeats stop after 0.3 s in total), measured around mesh_relax only.
  * Built by bench/relax.sh against libmesh/libmesh.a. */
 #include <stdio.h>
@@ -58,19 +59,24 @@ int main(int argc, char **argv)
 	}
 
 	static const double ftols[] = { 1e-4, 1e-6, 1e-8, 1e-10, 1e-12 };
-	printf("# mesh\tp0\talgo\tpolish\tftol\tseconds\tneval\tnhessvec\tmaxforce\tconverged\tW\n");
+	printf("# mesh\tp0\talgo\tpolish\tftol\tseconds\tneval\tnhessvec\tmaxforce\tconverged\tW\tprecond\tnfactor\n");
 	const char *only = getenv("RELAX_ALGO");  /* one method only, for trials */
 	for (int a = 0; a < MIN_NALGO; a++)
-		for (int pol = 0; pol <= 1; pol++) {
+		for (int pol = 0; pol <= 2; pol++) {
 			if (only && strcmp(only, min_algo_name((min_algo)a)) != 0)
 				continue;
-			if (a == MIN_NEWTON && pol)
+			/* pol 2: the same as 1 without the preconditioner; for
+			 * newton, pol 0 is preconditioned and 2 is plain CG */
+			if (a == MIN_NEWTON && pol == 1)
 				continue;  /* polish is Newton already */
+			if (a == MIN_FIRE && pol == 2)
+				continue;  /* the polish rarely runs after FIRE */
 			for (size_t t = 0; t < sizeof ftols / sizeof *ftols; t++) {
 				min_opts o;
 				min_opts_init(&o);
 				o.algo = (min_algo)a;
-				o.polish = pol;
+				o.polish = pol != 0 && a != MIN_NEWTON;
+				o.precond = pol != 2;
 				o.ftol = ftols[t];
 				double best = 1e300, spent = 0;
 				min_report rep;
@@ -85,9 +91,10 @@ int main(int argc, char **argv)
 						best = dt;
 					mesh_free(m);
 				}
-				printf("%s\t%.4f\t%s\t%d\t%.0e\t%.5f\t%ld\t%ld\t%.3e\t%d\t%.15g\n",
-				       argv[3], p.p0, min_algo_name((min_algo)a), pol, ftols[t],
-				       best, rep.neval, rep.nhessvec, rep.gnorm, st == MESH_OK, rep.f);
+				printf("%s\t%.4f\t%s\t%d\t%.0e\t%.5f\t%ld\t%ld\t%.3e\t%d\t%.15g\t%d\t%ld\n",
+				       argv[3], p.p0, min_algo_name((min_algo)a), o.polish, ftols[t],
+				       best, rep.neval, rep.nhessvec, rep.gnorm, st == MESH_OK, rep.f,
+				       o.precond, rep.npcsetup);
 				fflush(stdout);
 			}
 		}

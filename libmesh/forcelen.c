@@ -1,6 +1,7 @@
 /* forcelen.c - constrained sweeps of one junction's length. */
 #include "forcelen.h"
 #include "hessian.h"
+#include "sparse.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -78,6 +79,17 @@ struct fl_work {
 	 * to (hx) and recomputed only when x changes. */
 	double *hr, *hg, *hvr, *hhr, *hx;
 	int hvalid;
+	/* The preconditioner, built at one point of the sweep and kept for the
+	 * following ones while CG stays fast with it (min_opts.pcmaxit): the
+	 * sparse Hessian of W (hs), the Hessian in x (hx, pattern of this
+	 * junction), its shifted Cholesky factor (ch). */
+	hessian_sparse *hs;
+	spsym *hxs;
+	spchol *ch;
+	double shift;
+	int have;
+	double *pr, *pg;      /* 2 nv: coordinates and gradient at the build */
+	long npc;             /* builds in this sweep */
 };
 
 typedef struct {
@@ -106,13 +118,16 @@ fl_work *fl_work_alloc(const mesh *m)
 	w->r = malloc(nr * sizeof *w->r);
 	w->g = malloc(nr * sizeof *w->g);
 	w->x = malloc(nx * sizeof *w->x);
+	w->pr = malloc(nr * sizeof *w->pr);
+	w->pg = malloc(nr * sizeof *w->pg);
 	int nohist = 0;
 	for (int i = 0; i <= FL_MAXPREDICT; i++)
 		nohist |= (w->hist[i] = malloc(nx * sizeof *w->hist[i])) == NULL;
 	w->xrest = malloc(nx * sizeof *w->xrest);
 	w->xtry = malloc(nx * sizeof *w->xtry);
 	if (!w->ws || !w->r || !w->g || !w->x || nohist || !w->xrest || !w->xtry ||
-	    !w->hws || !w->hr || !w->hg || !w->hvr || !w->hhr || !w->hx) {
+	    !w->hws || !w->hr || !w->hg || !w->hvr || !w->hhr || !w->hx || !w->pr ||
+	    !w->pg) {
 		fl_work_free(w);
 		return NULL;
 	}
@@ -137,6 +152,11 @@ void fl_work_free(fl_work *w)
 		free(w->hist[i]);
 	free(w->xrest);
 	free(w->xtry);
+	free(w->pr);
+	free(w->pg);
+	hessian_sparse_free(w->hs);
+	spsym_free(w->hxs);
+	spchol_free(w->ch);
 	free(w);
 }
 
@@ -214,6 +234,127 @@ static void fl_hessvec(const double *x, const double *v, double *hv, void *data)
 	            - (gb[0] * ct + gb[1] * st) / c->l * v[n - 1];
 }
 
+/* The variables x of r-coordinate i (vertex v = i/2): itself, or for
+ * v = b, r_b = r_a + l e(t) - jimg: x_a's coordinate with weight 1 and s
+ * with weight u_d, u = (-sin t, cos t).  Returns how many (1 or 2). */
+static int xmap(const fl_ctx *c, int i, double ct, double st, int X[2], double wt[2])
+{
+	int v = i / 2, d = i % 2;
+	if (v != c->b) {
+		X[0] = xi(c, v) + d;
+		wt[0] = 1;
+		return 1;
+	}
+	X[0] = xi(c, c->a) + d;
+	wt[0] = 1;
+	X[1] = c->w->n - 1;
+	wt[1] = d == 0 ? -st : ct;
+	return 2;
+}
+
+/* The pattern of H_x = J^T H J (+ the (s, s) curvature): H's pattern with
+ * b's rows and columns folded onto a's and s's. */
+static int fl_pattern(fl_ctx *c)
+{
+	fl_work *w = c->w;
+	const spsym *h = w->hs->h;
+	long cap = 4L * h->nnz + 1, np = 0;
+	int *ij = malloc((2 * (size_t)cap + 2) * sizeof *ij);
+	if (ij == NULL)
+		return MESH_ENOMEM;
+	for (int j = 0; j < h->n; j++)
+		for (int q = h->colp[j]; q < h->colp[j + 1]; q++) {
+			int Xi[2], Xj[2];
+			double wi[2], wj[2];
+			int ni = xmap(c, h->rowi[q], 1, 1, Xi, wi), nj = xmap(c, j, 1, 1, Xj, wj);
+			for (int u = 0; u < ni; u++)
+				for (int v = 0; v < nj; v++) {
+					ij[2 * np] = Xi[u];
+					ij[2 * np + 1] = Xj[v];
+					np++;
+				}
+		}
+	ij[2 * np] = ij[2 * np + 1] = w->n - 1;
+	np++;
+	spsym_free(w->hxs);
+	spchol_free(w->ch);
+	w->ch = NULL;
+	w->hxs = spsym_alloc(w->n, (int)np, ij);
+	free(ij);
+	if (w->hxs == NULL || (w->ch = spchol_analyze(w->hxs)) == NULL)
+		return MESH_ENOMEM;
+	return MESH_OK;
+}
+
+static void hx_add(spsym *hx, int X, int Y, double v)
+{
+	int at = X >= Y ? spsym_find(hx, X, Y) : -1;
+	if (at >= 0)  /* always, as fl_pattern made the pattern the same way */
+		hx->val[at] += v;
+}
+
+/* Build M = H_x + shift I at x: H_x(X, Y) = sum over ordered pairs (i, j)
+ * of r-coordinates of H_ij J_iX J_jY, each kept once in the lower
+ * triangle, plus the curvature -grad_b W . e / l on (s, s) as in
+ * fl_hessvec. */
+static int fl_pcsetup(const double *x, void *data)
+{
+	fl_ctx *c = data;
+	fl_work *w = c->w;
+	int n = w->n;
+	double t = x[n - 1] / c->l, ct = cos(t), st = sin(t);
+	w->have = 0;
+	w->npc++;
+	x_to_r(c, x, t, w->pr);
+	mesh_energy(c->m, w->pr, c->p, w->pg, w->ws);
+	mesh_hessian_sparse(c->m, w->pr, c->p, w->hs);
+	const spsym *h = w->hs->h;
+	spsym *hx = w->hxs;
+	spsym_zero(hx);
+	for (int j = 0; j < h->n; j++)
+		for (int q = h->colp[j]; q < h->colp[j + 1]; q++) {
+			int i = h->rowi[q], Xi[2], Xj[2];
+			double wi[2], wj[2], hv = h->val[q];
+			int ni = xmap(c, i, ct, st, Xi, wi), nj = xmap(c, j, ct, st, Xj, wj);
+			for (int u = 0; u < ni; u++)
+				for (int v = 0; v < nj; v++) {
+					hx_add(hx, Xi[u], Xj[v], hv * wi[u] * wj[v]);
+					if (i != j)
+						hx_add(hx, Xj[v], Xi[u], hv * wi[u] * wj[v]);
+				}
+		}
+	const double *gb = w->pg + 2 * c->b;
+	hx_add(hx, n - 1, n - 1, -(gb[0] * ct + gb[1] * st) / c->l);
+	if (spchol_precond(w->ch, hx, &w->shift) != MESH_OK)
+		return -1;
+	w->have = 1;
+	return 0;
+}
+
+/* The solve, minus the rigid translation (all vertex pairs alike, s
+ * unchanged) that M^{-1} amplifies rounding along. */
+static int fl_pcapply(const double *r, double *z, void *data)
+{
+	fl_ctx *c = data;
+	fl_work *w = c->w;
+	if (!w->have)
+		return -1;
+	spchol_solve(w->ch, r, z);
+	int nv1 = w->nv - 1;
+	double mx = 0, my = 0;
+	for (int v = 0; v < nv1; v++) {
+		mx += z[2 * v];
+		my += z[2 * v + 1];
+	}
+	mx /= nv1;
+	my /= nv1;
+	for (int v = 0; v < nv1; v++) {
+		z[2 * v] -= mx;
+		z[2 * v + 1] -= my;
+	}
+	return 0;
+}
+
 /* Residual force: the largest vertex-pair norm and |dW/ds|, all forces. */
 static double fl_gnorm(int n, const double *g, void *data)
 {
@@ -221,8 +362,8 @@ static double fl_gnorm(int n, const double *g, void *data)
 	double m2 = g[n - 1] * g[n - 1];
 	for (int i = 0; i + 1 < n - 1; i += 2) {
 		double q = g[i] * g[i] + g[i + 1] * g[i + 1];
-		if (q > m2)
-			m2 = q;
+		if (!(q <= m2))
+			m2 = isnan(q) || isnan(m2) ? NAN : q;  /* NaN is never small */
 	}
 	return sqrt(m2);
 }
@@ -267,6 +408,10 @@ static int solve_point(fl_ctx *c, const fl_opts *o, int dir, fl_point *pt)
 	min_opts mo = o->min;
 	mo.gnorm = fl_gnorm;
 	mo.hessvec = fl_hessvec;
+	if (mo.precond) {
+		mo.pcsetup = fl_pcsetup;
+		mo.pcapply = fl_pcapply;
+	}
 	w->hvalid = 0;
 	min_report rep;
 	w->x[n - 1] *= c->l;
@@ -286,6 +431,7 @@ static int solve_point(fl_ctx *c, const fl_opts *o, int dir, fl_point *pt)
 	pt->W = W;
 	pt->fres = fres;
 	pt->neval = rep.neval + rep.nhessvec + 1;
+	pt->npc = rep.npcsetup;
 	pt->dir = dir;
 	pt->status = fres <= o->min.ftol ? MESH_OK : MESH_ENOCONV;
 	return MESH_OK;
@@ -377,6 +523,21 @@ int fl_sweep(const mesh *m, const model *p, int j, const fl_opts *o,
 	int np = 0, nfail = 0, st;
 	if (stop && *stop)
 		return MESH_ENOCONV;
+	w->have = 0;
+	w->shift = 0;
+	w->npc = 0;
+	if (o->min.precond) {
+		/* The topology may differ from the last sweep's (same counts):
+		 * patterns are made afresh.  A sweep reuses one factorization
+		 * for many points, so it is built at the rest state now rather
+		 * than after CG has proved slow. */
+		hessian_sparse_free(w->hs);
+		if ((w->hs = hessian_sparse_alloc(m)) == NULL || fl_pattern(&c) != MESH_OK)
+			return MESH_ENOMEM;
+		w->x[w->n - 1] *= c.l;
+		fl_pcsetup(w->x, &c);
+		w->x[w->n - 1] /= c.l;
+	}
 	st = solve_point(&c, o, FL_REST, &pts[np]);
 	if (st != MESH_OK)
 		return st;

@@ -50,7 +50,11 @@ typedef struct {
 } fl_opts;
 
 /* Defaults as above; min: MIN_NEWTON (with this parametrization's exact
- * Hessian-vector product), ftol 1e-10, else as min_opts_init. */
+ * Hessian-vector product), ftol 1e-10, else as min_opts_init.  With
+ * min.precond (the default) CG is preconditioned by a shifted sparse
+ * Cholesky factorization of the exact Hessian in the sweep's variables,
+ * built at the rest state and rebuilt only when CG needs more than
+ * min.pcmaxit iterations with it; min.pcsetup and pcapply are ignored. */
 void fl_opts_init(fl_opts *o);
 /* MESH_EDOM with msg if an option is out of range. */
 int fl_opts_check(const fl_opts *o, mesh_error *err);
@@ -61,6 +65,7 @@ typedef struct {
 	double W;          /* energy at the constrained minimum */
 	double fres;       /* residual force of the constrained minimization */
 	long neval;        /* energy evaluations and Hessian-vector products */
+	long npc;          /* preconditioner builds (factorizations) */
 	int dir;           /* enum fl_dir */
 	int status;        /* MESH_OK or MESH_ENOCONV from min_run */
 } fl_point;

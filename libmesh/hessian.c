@@ -144,3 +144,165 @@ int mesh_hessian(const mesh *m, const double *r, const model *p, double *h)
 	free(e);
 	return MESH_OK;
 }
+
+hessian_sparse *hessian_sparse_alloc(const mesh *m)
+{
+	hessian_sparse *hs = calloc(1, sizeof *hs);
+	if (hs == NULL)
+		return NULL;
+	long npos = 0, npairs = 0;
+	for (int k = 0; k < m->nc; k++) {
+		int ns = m->coff[k + 1] - m->coff[k];
+		if (ns > hs->nmax)
+			hs->nmax = ns;
+		npos += 4L * ns * ns;
+		npairs += (long)ns * (ns - 1) / 2 * 4 + 3L * ns;
+	}
+	int *ij = malloc((2 * (size_t)npairs + 2) * sizeof *ij);
+	hs->poff = malloc(((size_t)m->nc + 1) * sizeof *hs->poff);
+	hs->pos = malloc(((size_t)npos + 1) * sizeof *hs->pos);
+	hs->loc = malloc((4 * (size_t)hs->nmax * hs->nmax + 9 * (size_t)hs->nmax + 1) *
+	                 sizeof *hs->loc);
+	if (ij == NULL || hs->poff == NULL || hs->pos == NULL || hs->loc == NULL)
+		goto fail;
+	long q = 0;
+	for (int k = 0; k < m->nc; k++)
+		for (int i = m->coff[k]; i < m->coff[k + 1]; i++)
+			for (int j = m->coff[k]; j <= i; j++) {
+				int vi = m->cv[i], vj = m->cv[j];
+				for (int di = 0; di < 2; di++)
+					for (int dj = 0; dj < 2; dj++) {
+						if (i == j && dj > di)
+							continue;
+						ij[2 * q] = 2 * vi + di;
+						ij[2 * q + 1] = 2 * vj + dj;
+						q++;
+					}
+			}
+	hs->h = spsym_alloc(2 * m->nv, (int)q, ij);
+	if (hs->h == NULL)
+		goto fail;
+	free(ij);
+	ij = NULL;
+	hs->poff[0] = 0;
+	for (int k = 0; k < m->nc; k++) {
+		int s = m->coff[k], ns = m->coff[k + 1] - s, n2 = 2 * ns;
+		int *pk = hs->pos + hs->poff[k];
+		for (int I = 0; I < n2; I++)
+			for (int J = 0; J < n2; J++) {
+				int gi = 2 * m->cv[s + I / 2] + I % 2, gj = 2 * m->cv[s + J / 2] + J % 2;
+				/* Local pairs whose global entry lies in the lower
+				 * triangle; a diagonal entry gets each ordered pair. */
+				pk[I * n2 + J] = gi >= gj ? spsym_find(hs->h, gi, gj) : -1;
+			}
+		hs->poff[k + 1] = hs->poff[k] + n2 * n2;
+	}
+	return hs;
+fail:
+	free(ij);
+	hessian_sparse_free(hs);
+	return NULL;
+}
+
+void hessian_sparse_free(hessian_sparse *hs)
+{
+	if (hs == NULL)
+		return;
+	spsym_free(hs->h);
+	free(hs->poff);
+	free(hs->pos);
+	free(hs->loc);
+	free(hs);
+}
+
+/* Per cell, with unwrapped corners q_i: dA/dq_i = perp(q_{i+1} - q_{i-1})/2
+ * with perp(d) = (d_y, -d_x), and grad^2 A couples only consecutive corners
+ * (d2A/dx_i dy_{i+1} = 1/2, d2A/dy_i dx_{i+1} = -1/2); each side e from
+ * corner i to i+1 adds -u to dP/dq_i and +u to dP/dq_{i+1}, and
+ * K = (I - u u^T)/l to grad^2 P on (i, i) and (i+1, i+1), -K on (i, i+1). */
+void mesh_hessian_sparse(const mesh *m, const double *r, const model *p,
+                         hessian_sparse *hs)
+{
+	spsym_zero(hs->h);
+	double *val = hs->h->val, *B = hs->loc;
+	const int nm = hs->nmax;
+	double *gA = B + 4 * nm * nm, *gP = gA + 2 * nm, *qx = gP + 2 * nm;
+	double *qy = qx + nm, *cP = qy + nm;
+	const double ka = p->ka, p0 = p->p0;
+	for (int k = 0; k < m->nc; k++) {
+		int s = m->coff[k], ns = m->coff[k + 1] - s, n2 = 2 * ns;
+		double x0 = r[2 * m->cv[s]], y0 = r[2 * m->cv[s] + 1];
+		for (int i = 0; i < ns; i++) {
+			qx[i] = r[2 * m->cv[s + i]] + m->cimg[2 * (s + i)] - x0;
+			qy[i] = r[2 * m->cv[s + i] + 1] + m->cimg[2 * (s + i) + 1] - y0;
+		}
+		double A = 0, P = 0;
+		for (int i = 0; i < n2; i++)
+			gP[i] = 0;
+		for (int i = 0; i < n2 * n2; i++)
+			B[i] = 0;
+		for (int i = 0; i < ns; i++) {
+			int ip = (i + 1) % ns, im = (i + ns - 1) % ns;
+			A += 0.5 * (qx[i] * qy[ip] - qx[ip] * qy[i]);
+			gA[2 * i] = 0.5 * (qy[ip] - qy[im]);
+			gA[2 * i + 1] = 0.5 * (qx[im] - qx[ip]);
+		}
+		/* Side vectors from the junction table, so that the closing side
+		 * of a polygon unwrapped across the box is its minimum image. */
+		for (int i = 0; i < ns; i++) {
+			int j = m->cj[s + i];
+			double d[2];
+			double l = junction_vec(m, r, j, d);
+			if (m->jv[2 * j] != m->cv[s + i]) {
+				d[0] = -d[0];
+				d[1] = -d[1];
+			}
+			cP[3 * i] = d[0] / l;
+			cP[3 * i + 1] = d[1] / l;
+			cP[3 * i + 2] = l;
+			P += l;
+		}
+		double cA = 2 * ka * (A - 1), cPw = 2 * (P - p0);
+		for (int i = 0; i < ns; i++) {
+			int ip = (i + 1) % ns;
+			double ux = cP[3 * i], uy = cP[3 * i + 1], l = cP[3 * i + 2];
+			gP[2 * i] -= ux;
+			gP[2 * i + 1] -= uy;
+			gP[2 * ip] += ux;
+			gP[2 * ip + 1] += uy;
+			double kxx = cPw * (1 - ux * ux) / l, kxy = -cPw * ux * uy / l;
+			double kyy = cPw * (1 - uy * uy) / l;
+			int a = 2 * i, b = 2 * ip;
+			B[a * n2 + a] += kxx;
+			B[a * n2 + a + 1] += kxy;
+			B[(a + 1) * n2 + a] += kxy;
+			B[(a + 1) * n2 + a + 1] += kyy;
+			B[b * n2 + b] += kxx;
+			B[b * n2 + b + 1] += kxy;
+			B[(b + 1) * n2 + b] += kxy;
+			B[(b + 1) * n2 + b + 1] += kyy;
+			B[a * n2 + b] -= kxx;
+			B[a * n2 + b + 1] -= kxy;
+			B[(a + 1) * n2 + b] -= kxy;
+			B[(a + 1) * n2 + b + 1] -= kyy;
+			B[b * n2 + a] -= kxx;
+			B[b * n2 + a + 1] -= kxy;
+			B[(b + 1) * n2 + a] -= kxy;
+			B[(b + 1) * n2 + a + 1] -= kyy;
+			/* area: x_i y_{i+1} +1/2, y_i x_{i+1} -1/2 */
+			double h = 0.5 * cA;
+			B[a * n2 + b + 1] += h;
+			B[(b + 1) * n2 + a] += h;
+			B[(a + 1) * n2 + b] -= h;
+			B[b * n2 + a + 1] -= h;
+		}
+		const int *pk = hs->pos + hs->poff[k];
+		for (int I = 0; I < n2; I++)
+			for (int J = 0; J < n2; J++) {
+				int at = pk[I * n2 + J];
+				if (at >= 0)
+					val[at] += B[I * n2 + J] + 2 * ka * gA[I] * gA[J] +
+					           2 * gP[I] * gP[J];
+			}
+	}
+}

@@ -10,6 +10,7 @@
 
 #include "geom.h"
 #include "mesh.h"
+#include "sparse.h"
 
 /* Scratch space for one mesh's counts (valid across T1s, like energy_ws). */
 typedef struct hessian_ws hessian_ws;
@@ -24,5 +25,29 @@ void mesh_hessvec(const mesh *m, const double *r, const model *p,
 /* The dense Hessian at r into h (row-major, (2 nv)^2 values), exactly
  * symmetric.  MESH_ENOMEM. */
 int mesh_hessian(const mesh *m, const double *r, const model *p, double *h);
+
+/* The exact Hessian as a sparse matrix, for preconditioners: each cell
+ * couples every pair of its vertices (a dense 2n x 2n block per n-gon), so
+ * the pattern is fixed by the topology.  h is the matrix (lower triangle,
+ * variables as in r: x_v = 2v, y_v = 2v + 1); the rest maps each cell's
+ * block into h. */
+typedef struct {
+	spsym *h;
+	int *poff;      /* nc + 1 offsets into pos */
+	int *pos;       /* per cell, (2n)^2: position in h of local entry
+	                   (I, J), or -1 when it belongs to the upper triangle */
+	double *loc;    /* scratch for one cell's block */
+	int nmax;       /* most sides of a cell */
+} hessian_sparse;
+
+/* Pattern and maps for m's topology.  NULL if out of memory. */
+hessian_sparse *hessian_sparse_alloc(const mesh *m);
+void hessian_sparse_free(hessian_sparse *hs);
+
+/* The Hessian of W at r into hs->h (hs from this mesh's topology):
+ * sum over cells of 2 ka (grad A grad A^T + (A - 1) grad^2 A) +
+ * 2 (grad P grad P^T + (P - p0) grad^2 P).  No allocation. */
+void mesh_hessian_sparse(const mesh *m, const double *r, const model *p,
+                         hessian_sparse *hs);
 
 #endif

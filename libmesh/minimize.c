@@ -4,6 +4,7 @@
  * are at rounding level, near max force 1e-7 for a 324-cell tissue). */
 #include "minimize.h"
 #include "hessian.h"
+#include "sparse.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -24,7 +25,9 @@ static const char *const algo_names[MIN_NALGO] = {
 void min_opts_init(min_opts *o)
 {
 	*o = (min_opts){ .algo = MIN_NEWTON, .ftol = 1e-10, .maxeval = 100000,
-	                 .gnorm = NULL, .polish = 1, .hessvec = NULL };
+	                 .gnorm = NULL, .polish = 1, .hessvec = NULL,
+	                 .pcsetup = NULL, .pcapply = NULL, .pcmaxit = 6,
+	                 .precond = 1 };
 }
 
 const char *min_algo_name(min_algo a)
@@ -43,17 +46,22 @@ int min_algo_parse(const char *name, min_algo *a)
 }
 
 /* The state every stage shares.  Each objective evaluation goes through
- * eval(), which keeps the lowest point seen and the first point that meets
- * the force tolerance, so no stage has to get its bookkeeping right. */
+ * eval(), which keeps the best point seen and the first point that meets
+ * the force tolerance, so no stage has to get its bookkeeping right.
+ * "Best" never has a higher objective than the start (beyond rounding,
+ * slack) nor a non-finite force (a junction of length zero); among such
+ * points a lower objective wins when it is lower by
+ * more than rounding, and otherwise the lower force does: energies equal
+ * to rounding cannot tell better from worse, forces still can. */
 typedef struct {
 	int n;
 	min_func f;
 	void *data;
 	const min_opts *o;
 	double f0, slack;
-	long neval, nhv, niter, npolish;
+	long neval, nhv, niter, npolish, npc;
 	double *g;                    /* gradient for callers that pass none */
-	double *xbest, fbest, gbest;  /* lowest objective seen */
+	double *xbest, fbest, gbest;  /* best point seen (see above) */
 	double *xconv, fconv, gconv;  /* first point with force <= ftol */
 	int conv;
 	double fcur, gcur;            /* objective and force where a stage ended */
@@ -70,17 +78,19 @@ static double dot(int n, const double *a, const double *b)
 }
 
 /* Largest Euclidean norm of consecutive pairs (a lone last value counts
- * alone): the largest vertex force, or the largest vertex move. */
+ * alone): the largest vertex force, or the largest vertex move.  NaN if
+ * any value is NaN (a plain maximum would skip it and call a gradient with
+ * a 0/0 in it small). */
 static double pair_max(int n, const double *v)
 {
 	double m2 = 0;
 	for (int i = 0; i + 1 < n; i += 2) {
 		double q = v[i] * v[i] + v[i + 1] * v[i + 1];
-		if (q > m2)
-			m2 = q;
+		if (!(q <= m2))
+			m2 = isnan(q) || isnan(m2) ? NAN : q;  /* NaN wins */
 	}
-	if (n % 2 && v[n - 1] * v[n - 1] > m2)
-		m2 = v[n - 1] * v[n - 1];
+	if (n % 2 && !(v[n - 1] * v[n - 1] <= m2))
+		m2 = isnan(m2) ? NAN : v[n - 1] * v[n - 1];
 	return sqrt(m2);
 }
 
@@ -102,7 +112,8 @@ static double eval(ctx *c, const double *x, double *g, double *gn_out)
 	if (!isfinite(f))
 		f = HUGE_VAL;
 	double gn = force_of(c, g);
-	if (f < c->fbest) {
+	if (f <= c->f0 + c->slack && gn < HUGE_VAL &&
+	    (f < c->fbest - c->slack || (f <= c->fbest + c->slack && gn < c->gbest))) {
 		c->fbest = f;
 		c->gbest = gn;
 		memcpy(c->xbest, x, c->n * sizeof *x);
@@ -325,41 +336,71 @@ static void hessvec(ctx *c, const double *x, const double *v, double *hv)
 		hv[i] = (c->w2[i] - c->w3[i]) * vn / (2 * h);
 }
 
-/* Truncated Newton: CG on H s = -g to a relative residual eta =
- * min(0.5, sqrt|g|) (superlinear convergence), stopped at non-positive
- * curvature (zero modes of a floppy tissue, or far from the minimum) or
- * when the step leaves the trust box (no vertex moves more than smax).  A
- * step is accepted on the Armijo condition, or, when energies are equal to
- * rounding, when the force goes down: near the minimum the energy can no
- * longer tell better from worse, the force still can. */
+/* Truncated Newton: (preconditioned) CG on H s = -g to a relative residual
+ * eta = min(0.5, sqrt|g|) (superlinear convergence), stopped at
+ * non-positive curvature (zero modes of a floppy tissue, or far from the
+ * minimum) or when the step leaves the trust box (no vertex moves more
+ * than smax).  With a preconditioner M the first direction is M^{-1}(-g),
+ * a descent direction whatever H is.  M costs a factorization (~300
+ * Hessian products for a 324-cell tissue) and each solve ~10, so it is
+ * built only when plain CG needed more than PC_PLAIN iterations, or when
+ * the caller handed one in (a sweep), and rebuilt at the current point when
+ * a solve took more than pcmaxit iterations (and PC_AMORT products were
+ * done with the old one).  A step is accepted on
+ * the Armijo condition with an energy decrease beyond rounding, or, when
+ * energies are equal to rounding, when the force goes down: near the
+ * minimum the energy can no longer tell better from worse, the force
+ * still can. */
+#define PC_PLAIN 50
+#define PC_AMORT 30
+
 static int stage_newton(ctx *c, double *xio)
 {
 	const int n = c->n;
 	const double smax = 0.1;
-	double *buf = malloc(7 * (size_t)n * sizeof *buf);
+	int canpc = c->o->precond && c->o->pcsetup && c->o->pcapply;
+	double *buf = malloc(9 * (size_t)n * sizeof *buf);
 	if (buf == NULL)
 		return MESH_ENOMEM;
 	double *x = buf, *g = x + n, *s = g + n, *r = s + n, *p = r + n;
-	double *hp = p + n, *xt = hp + n;
-	double *gt = malloc((size_t)n * sizeof *gt);
-	if (gt == NULL) {
-		free(buf);
-		return MESH_ENOMEM;
-	}
+	double *hp = p + n, *xt = hp + n, *gt = xt + n, *z = gt + n;
 	memcpy(x, xio, n * sizeof *x);
 	double gn, f = eval(c, x, g, &gn);
 	double gref = gn, fref = f;
-	int stall = 0;
+	int stall = 0, rebuild = 0, usepc = 0;
+	long hvbuild = c->nhv;
 	long it = 0;
+	/* Is there an M from an earlier call?  Of unknown age, so it may be
+	 * rebuilt at once. */
+	if (canpc && c->o->pcapply(g, z, c->data) == 0) {
+		usepc = 1;
+		hvbuild -= PC_AMORT;
+	}
 	while (!c->conv && budget_left(c)) {
+		long npc0 = c->npc;
+		if (rebuild && canpc) {
+			c->npc++;
+			hvbuild = c->nhv;
+			usepc = c->o->pcsetup(x, c->data) == 0;
+			if (!usepc)
+				canpc = 0;  /* cannot be built here: plain CG from now on */
+		}
+		rebuild = 0;
 		double g2 = dot(n, g, g);
 		double eta = fmin(0.5, sqrt(sqrt(g2)));
+		/* No more accuracy than the tolerance asks for: the residual
+		 * of the linear solve is the next gradient to first order, and
+		 * a force measure is at most its 2-norm. */
+		double rstop = fmax(eta * sqrt(g2), 0.25 * c->o->ftol);
 		for (int i = 0; i < n; i++) {
 			s[i] = 0;
-			r[i] = p[i] = -g[i];
+			r[i] = -g[i];
 		}
-		double rr = g2;
-		for (int k = 0; k < n + 10 && budget_left(c); k++) {
+		const double *zz = usepc && c->o->pcapply(r, z, c->data) == 0 ? z : r;
+		memcpy(p, zz, n * sizeof *p);
+		double rz = dot(n, r, zz);
+		int k;
+		for (k = 0; k < n + 10 && budget_left(c); k++) {
 			hessvec(c, x, p, hp);
 			double php = dot(n, p, hp);
 			if (!(php > 0)) {
@@ -367,7 +408,7 @@ static int stage_newton(ctx *c, double *xio)
 					memcpy(s, p, n * sizeof *s);
 				break;
 			}
-			double al = rr / php;
+			double al = rz / php;
 			for (int i = 0; i < n; i++) {
 				s[i] += al * p[i];
 				r[i] -= al * hp[i];
@@ -375,12 +416,20 @@ static int stage_newton(ctx *c, double *xio)
 			if (pair_max(n, s) > smax)
 				break;
 			double rrn = dot(n, r, r);
-			if (sqrt(rrn) <= eta * sqrt(g2))
+			if (sqrt(rrn) <= rstop)
 				break;
+			zz = usepc && c->o->pcapply(r, z, c->data) == 0 ? z : r;
+			double rzn = dot(n, r, zz);
 			for (int i = 0; i < n; i++)
-				p[i] = r[i] + rrn / rr * p[i];
-			rr = rrn;
+				p[i] = zz[i] + rzn / rz * p[i];
+			rz = rzn;
 		}
+		/* A rebuild costs as much as ~40 solves: never more often
+		 * than every PC_AMORT products (a floppy tissue keeps CG
+		 * long whatever M is). */
+		if (canpc && k >= (usepc ? c->o->pcmaxit : PC_PLAIN) &&
+		    c->nhv - hvbuild >= PC_AMORT)
+			rebuild = 1;
 		double gs = dot(n, g, s);
 		if (!(gs < 0)) {
 			for (int i = 0; i < n; i++)
@@ -399,13 +448,24 @@ static int stage_newton(ctx *c, double *xio)
 			for (int i = 0; i < n; i++)
 				xt[i] = x[i] + al * s[i];
 			ft = eval(c, xt, gt, &gnt);
-			if (ft <= f + 1e-4 * al * gs || (ft <= f + c->slack && gnt < gn)) {
+			/* never onto a point without a finite force (0/0) */
+			if (gnt < HUGE_VAL &&
+			    ((ft <= f + 1e-4 * al * gs && ft < f - c->slack) ||
+			     (ft <= f + c->slack && gnt < gn))) {
 				accepted = 1;
 				break;
 			}
 		}
-		if (!accepted)
+		if (!accepted) {
+			/* A stale preconditioner can point the wrong way; a
+			 * fresh one gets one more chance. */
+			if (usepc && c->npc == npc0 && c->nhv - hvbuild >= PC_AMORT &&
+			    budget_left(c)) {
+				rebuild = 1;
+				continue;
+			}
 			break;
+		}
 		it++;
 		memcpy(x, xt, n * sizeof *x);
 		memcpy(g, gt, n * sizeof *g);
@@ -424,7 +484,6 @@ static int stage_newton(ctx *c, double *xio)
 	c->gcur = gn;
 	c->niter += it;
 	free(buf);
-	free(gt);
 	return MESH_OK;
 }
 
@@ -508,7 +567,9 @@ int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
 		memcpy(x, c.xconv, sz);
 		c.fcur = c.fconv;
 		c.gcur = c.gconv;
-	} else if (c.fcur > c.f0 + c.slack) {
+	} else {
+		/* Not where the last stage ended: that can be worse than the
+		 * start (a higher force at an energy equal to rounding). */
 		end_at_best(&c, x);
 	}
 	st = c.conv ? MESH_OK : MESH_ENOCONV;
@@ -517,6 +578,7 @@ out:
 	rep->niter = c.niter;
 	rep->nhessvec = c.nhv;
 	rep->npolish = c.npolish;
+	rep->npcsetup = c.npc;
 	rep->f0 = c.f0;
 	rep->f = c.fcur;
 	rep->gnorm = c.gcur;
@@ -536,6 +598,10 @@ typedef struct {
 	const model *p;
 	energy_ws *ew;
 	hessian_ws *hw;
+	hessian_sparse *hs;   /* preconditioner: the sparse Hessian, */
+	spchol *ch;           /* its factorization (NULL until first needed), */
+	double shift;         /* the last shift used */
+	int have;             /* ch holds a factor */
 } relax_ctx;
 
 static double relax_f(const double *x, double *grad, void *data)
@@ -550,6 +616,42 @@ static void relax_hv(const double *x, const double *v, double *hv, void *data)
 	mesh_hessvec(rc->m, x, rc->p, v, hv, rc->hw);
 }
 
+static int relax_pcsetup(const double *x, void *data)
+{
+	relax_ctx *rc = data;
+	rc->have = 0;
+	mesh_hessian_sparse(rc->m, x, rc->p, rc->hs);
+	if (rc->ch == NULL && (rc->ch = spchol_analyze(rc->hs->h)) == NULL)
+		return -1;
+	if (spchol_precond(rc->ch, rc->hs->h, &rc->shift) != MESH_OK)
+		return -1;
+	rc->have = 1;
+	return 0;
+}
+
+/* The solve, minus the rigid translation it may pick up: H has none, so
+ * M^{-1} amplifies rounding along it by 1/shift. */
+static int relax_pcapply(const double *r, double *z, void *data)
+{
+	relax_ctx *rc = data;
+	if (!rc->have)
+		return -1;
+	spchol_solve(rc->ch, r, z);
+	int nv = rc->m->nv;
+	double mx = 0, my = 0;
+	for (int v = 0; v < nv; v++) {
+		mx += z[2 * v];
+		my += z[2 * v + 1];
+	}
+	mx /= nv;
+	my /= nv;
+	for (int v = 0; v < nv; v++) {
+		z[2 * v] -= mx;
+		z[2 * v + 1] -= my;
+	}
+	return 0;
+}
+
 int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 {
 	min_opts oo;
@@ -559,6 +661,8 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 		min_opts_init(&oo);
 	oo.gnorm = NULL;
 	oo.hessvec = relax_hv;
+	oo.pcsetup = relax_pcsetup;
+	oo.pcapply = relax_pcapply;
 	if (rep)
 		memset(rep, 0, sizeof *rep);
 	if (!isfinite(p->p0) || !isfinite(p->ka) || p->ka < 0)
@@ -566,9 +670,11 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 	if (m->nv == 0)
 		return MESH_OK;
 	relax_ctx rc = { .m = m, .p = p, .ew = energy_ws_alloc(m), .hw = hessian_ws_alloc(m) };
+	if (oo.precond)
+		rc.hs = hessian_sparse_alloc(m);
 	double *x = malloc(2 * (size_t)m->nv * sizeof *x);
 	int st = MESH_ENOMEM;
-	if (rc.ew && rc.hw && x) {
+	if (rc.ew && rc.hw && x && (rc.hs || !oo.precond)) {
 		memcpy(x, m->r, 2 * (size_t)m->nv * sizeof *x);
 		st = min_run(2 * m->nv, x, relax_f, &rc, &oo, rep);
 		if (st == MESH_OK || st == MESH_ENOCONV) {
@@ -586,5 +692,7 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 	free(x);
 	energy_ws_free(rc.ew);
 	hessian_ws_free(rc.hw);
+	hessian_sparse_free(rc.hs);
+	spchol_free(rc.ch);
 	return st;
 }

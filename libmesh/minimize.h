@@ -45,6 +45,21 @@ typedef struct {
 	                      rounding level; Newton steps judged on forces go on) */
 	min_hessvec hessvec; /* for MIN_NEWTON and the polish; NULL: central
 	                      differences of the gradient (step 1e-5) */
+	/* Preconditioner of the CG inside MIN_NEWTON and the polish (NULL:
+	 * plain CG).  pcsetup builds M, a symmetric positive definite
+	 * approximation of the Hessian at x (a shifted sparse Cholesky
+	 * factorization, say), and returns 0, or nonzero if it cannot (then
+	 * CG goes on unpreconditioned).  pcapply sets z = M^{-1} r and returns
+	 * 0, or nonzero when there is no M yet.  M lives in the caller's data,
+	 * so a sequence of nearby problems (the points of a sweep) can share
+	 * one: min_run builds it only when there is none, or when a CG solve
+	 * needed more than pcmaxit iterations (M too far from the Hessian). */
+	int (*pcsetup)(const double *x, void *data);
+	int (*pcapply)(const double *r, double *z, void *data);
+	int pcmaxit;       /* default 6 (bench/results-relax.md) */
+	int precond;       /* 1 (default): mesh_relax and fl_sweep supply their
+	                      sparse Cholesky preconditioner; 0: plain CG
+	                      (min_run uses pcsetup/pcapply only when set) */
 } min_opts;
 
 typedef struct {
@@ -54,11 +69,12 @@ typedef struct {
 	double gnorm;      /* final force measure */
 	long nhessvec;     /* Hessian-vector products (Newton-CG) */
 	long npolish;      /* Newton iterations of the polish (0: not needed) */
+	long npcsetup;     /* preconditioner builds (factorizations) */
 } min_report;
 
 /* Defaults: MIN_NEWTON (fastest to every force level in bench/relax.sh,
- * see bench/results-relax.md) with polish, ftol 1e-10, maxeval 100000, gnorm and
- * hessvec NULL.  maxeval bounds objective evaluations plus Hessian-vector
+ * see bench/results-relax.md) with polish, ftol 1e-10, maxeval 100000, gnorm,
+ * hessvec, pcsetup and pcapply NULL, pcmaxit 6, precond 1.  maxeval bounds objective evaluations plus Hessian-vector
  * products together. */
 void min_opts_init(min_opts *o);
 
@@ -76,7 +92,11 @@ int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
             min_report *rep);
 
 /* Relax all vertex positions of m to the nearest minimum of W at p, with
- * the analytic Hessian for Newton steps (o->hessvec is ignored).  The
+ * the analytic Hessian for Newton steps (o->hessvec is ignored) and, unless
+ * o->precond is 0, CG preconditioned by a shifted sparse Cholesky
+ * factorization of the exact Hessian (o->pcsetup and pcapply are ignored).
+ * Never returns a worse point than the start: not a higher energy, and not
+ * a higher max force at an energy equal to rounding (1e-13 (1 + |W|)).  The
  * topology is unchanged; coordinates are wrapped into the box at the end.
  * Status as min_run, and MESH_EINVAL (m unchanged) if the result would have
  * a cell of non-positive area. */

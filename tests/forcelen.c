@@ -34,7 +34,7 @@ static const fl_point *at(const fl_point *pts, int n, int dir, double l)
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(21);
+	tap_plan(24);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 6, &m, &err);
@@ -108,6 +108,83 @@ int main(void)
 	ok(st2 == MESH_OK && n2 == n && dmax < 1e-8,
 	   "L-BFGS without prediction gives the same curve (%.3g)", dmax);
 	free(pts2);
+
+	/* Without the preconditioner: the same curve, many more products. */
+	fl_opts o4 = o;
+	o4.min.precond = 0;
+	pts2 = sweep(m, &p, j, &o4, &n2, &st2);
+	dmax = 0;
+	long wk1 = 0, wk2 = 0;
+	for (int i = 0; i < n && i < n2; i++) {
+		dmax = fmax(dmax, fabs(pts[i].f - pts2[i].f));
+		wk1 += pts[i].neval;
+		wk2 += pts2[i].neval;
+	}
+	ok(st2 == MESH_OK && n2 == n && dmax < 1e-8,
+	   "plain CG gives the same curve (%.3g; work %ld preconditioned, %ld plain)", dmax, wk1, wk2);
+	free(pts2);
+
+	/* One work space for two meshes with the same counts and different
+	 * topology (6x6 and 4x9 honeycombs): the second sweep must not use
+	 * the first one's Hessian pattern. */
+	{
+		mesh *m49;
+		lattice_honeycomb(9, 4, &m49, &err);
+		fl_work *wk = fl_work_alloc(m);
+		fl_point *q1 = malloc((fl_npoints(m49, 5, &o) + 1) * sizeof *q1);
+		fl_point *q2 = malloc((fl_npoints(m49, 5, &o) + 1) * sizeof *q2);
+		int k1, k2, s1, s2;
+		fl_sweep(m, &p, 3, &o, wk, pts, &n2, NULL);
+		s1 = fl_sweep(m49, &p, 5, &o, wk, q1, &k1, NULL);
+		fl_work_free(wk);
+		int s3;
+		fl_point *q3 = sweep(m49, &p, 5, &o, &k2, &s3);
+		s2 = s3;
+		double dq = 0;
+		long e1 = 0, e3 = 0;
+		for (int i = 0; i < k1 && i < k2; i++) {
+			dq = fmax(dq, fabs(q1[i].f - q3[i].f));
+			e1 += q1[i].neval;
+			e3 += q3[i].neval;
+		}
+		/* A stale preconditioner would still converge, but with other
+		 * work: the work must be the same too. */
+		ok(m49->nv == m->nv && m49->nc == m->nc && s1 == MESH_OK && s2 == MESH_OK &&
+		   k1 == k2 && dq < 1e-12 && e1 == e3,
+		   "a work space reused on another topology: same curve (%.3g), same work (%ld, %ld)",
+		   dq, e1, e3);
+		free(q1);
+		free(q2);
+		free(q3);
+		mesh_free(m49);
+	}
+
+	/* Near p_hex on a 324-cell tissue, where plain CG needs ~1000 products
+	 * per point: the preconditioned sweep matches the linear response. */
+	{
+		mesh *big;
+		lattice_honeycomb(18, 18, &big, &err);
+		model pb = { 3.70, 100 };
+		fl_opts ob = o;
+		ob.range = 0.01;
+		ob.back = 0;
+		int nb, sb;
+		fl_point *pb_pts = sweep(big, &pb, 0, &ob, &nb, &sb);
+		double lb0 = junction_length(big, big->r, 0);
+		const fl_point *hp = at(pb_pts, nb, FL_OUT, lb0 + h), *hm = at(pb_pts, nb, FL_OUT, lb0 - h);
+		long work = 0;
+		for (int i = 0; i < nb; i++)
+			work += pb_pts[i].neval;
+		/* exact a1 and fitted a3 at p0 3.70 from bench/results-
+		 * forcelen.md: the central difference of f is a1 + a3 h^2 */
+		double slope = hp && hm ? (hp->f - hm->f) / (2 * h) : NAN;
+		double want = -0.277295162624 + -2.45485 * h * h;
+		ok(sb == MESH_OK && fabs(slope - want) < 1e-6 && work < 40 * nb,
+		   "18x18 honeycomb at p0 3.70: slope %.9f = a1 + a3 h^2 = %.9f, %ld work for %d "
+		   "points", slope, want, work, nb);
+		free(pb_pts);
+		mesh_free(big);
+	}
 
 	/* A junction that crosses the periodic boundary. */
 	int jb = -1;

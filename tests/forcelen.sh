@@ -3,7 +3,7 @@
 # against the exact linear response, threads do not change the bytes,
 # several meshes in one stream, the return legs, usage and input errors.
 . "$(dirname "$0")/lib.sh"
-plan 30
+plan 31
 
 tis-hex 6 6 --p0 3.6 >"$T/h.mesh"
 tis-forcelen --index 0 --range 0.02 "$T/h.mesh" >"$T/c.tsv"
@@ -29,6 +29,11 @@ fit=$(awk 'NR == 2 { print $8 }' "$T/fit")
 ok "fitted a1 ($fit) = linear response a1 ($lin)" near "$fit" "$lin" 1e-6
 ok "fit: a0 = f(l0) ~ 0" near "$(awk 'NR == 2 { print $7 }' "$T/fit")" 0 1e-8
 ok "fit: 41 points in the default window 0.1" test "$(awk 'NR == 2 { print $6 }' "$T/fit")" = 41
+
+# Plain CG gives the same curve to within the force tolerance.
+tis-forcelen --index 0 --range 0.02 --no-precond "$T/h.mesh" >"$T/np.tsv"
+ok "--no-precond: the same curve" sh -c "paste '$T/c.tsv' '$T/np.tsv' | awk -F'\t' '
+	NR > 1 { d = \$8 - \$18; if (d < 0) d = -d; if (d > 1e-9 || \$7 != \$17) exit 1 }'"
 
 # Threads and selection.
 tis-forcelen --random 3 --seed 5 --range 0.01 --threads 1 "$T/h.mesh" >"$T/t1"

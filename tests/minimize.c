@@ -87,6 +87,11 @@ static double hessvec_error(const mesh *m, const model *p, unsigned seed)
 	return emax / hmax;
 }
 
+static double pair_max_test(const double *g)
+{
+	return hypot(g[0], g[1]);
+}
+
 /* Extended Rosenbrock in pairs: minimum 0 at all ones, narrow curved
  * valleys; a fair test of any gradient method. */
 static double rosen(const double *x, double *g, void *data)
@@ -111,10 +116,88 @@ static double gnorm_inf(int n, const double *g, void *data)
 	return m;
 }
 
+/* An objective whose energy only drifts down by rounding (one unit in the
+ * last place per evaluation) while its "force" g = -x^3 grows along the
+ * Newton direction (negative curvature: H = -I): the trap of the reported
+ * bug, where an energy-equal step was taken on the Armijo test and the run
+ * ended at a larger force than it started with. */
+static long drift_count;
+static double drift(const double *x, double *g, void *data)
+{
+	(void)data;
+	for (int i = 0; i < 2; i++)
+		g[i] = -x[i] * x[i] * x[i];
+	return 1.0 - 1.1e-16 * (double)++drift_count;
+}
+
+static void drift_hv(const double *x, const double *v, double *hv, void *data)
+{
+	(void)x;
+	(void)data;
+	for (int i = 0; i < 2; i++)
+		hv[i] = -v[i];
+}
+
+/* Downhill forever in x, but the gradient is 0/0 beyond x = 0.05 (a
+ * junction of zero length): such points must count as infinitely bad,
+ * not as force-free. */
+static double cliff(const double *x, double *g, void *data)
+{
+	(void)data;
+	g[0] = x[0] > 0.05 ? NAN : -1;
+	g[1] = x[1];
+	return -x[0] + 0.5 * x[1] * x[1];
+}
+
+/* A quadratic with a badly scaled diagonal, sum d_i (x_i - 1)^2 / 2, with
+ * an exact (diagonal) preconditioner. */
+#define QN 200
+static double qd(int i) { return pow(10, -2 + 6.0 * i / (QN - 1)); }
+
+static double quad(const double *x, double *g, void *data)
+{
+	(void)data;
+	double f = 0;
+	for (int i = 0; i < QN; i++) {
+		double d = qd(i);
+		f += 0.5 * d * (x[i] - 1) * (x[i] - 1);
+		g[i] = d * (x[i] - 1);
+	}
+	return f;
+}
+
+static void quad_hv(const double *x, const double *v, double *hv, void *data)
+{
+	(void)x;
+	(void)data;
+	for (int i = 0; i < QN; i++)
+		hv[i] = qd(i) * v[i];
+}
+
+static int quad_built, quad_setups;
+static int quad_pcsetup(const double *x, void *data)
+{
+	(void)x;
+	(void)data;
+	quad_built = 1;
+	quad_setups++;
+	return 0;
+}
+
+static int quad_pcapply(const double *r, double *z, void *data)
+{
+	(void)data;
+	if (!quad_built)
+		return -1;
+	for (int i = 0; i < QN; i++)
+		z[i] = r[i] / qd(i);
+	return 0;
+}
+
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(50);
+	tap_plan(57);
 	mesh_error err;
 	mesh *hex;
 	lattice_honeycomb(18, 18, &hex, &err);
@@ -312,6 +395,93 @@ int main(void)
 		min_algo a;
 		ok(!min_algo_parse("bogus", &a), "unknown name does not parse");
 		mesh_free(m);
+	}
+	/* The reported bug: never end at a larger force with an energy that
+	 * went down by rounding only. */
+	{
+		double x[2] = { 1e-3, 2e-3 }, g[2];
+		min_opts o;
+		min_opts_init(&o);
+		o.hessvec = drift_hv;
+		o.maxeval = 2000;
+		min_report rep;
+		drift(x, g, NULL);
+		double f0 = pair_max_test(g);
+		int st = min_run(2, x, drift, NULL, &o, &rep);
+		drift(x, g, NULL);
+		double f1 = pair_max_test(g);
+		ok(st == MESH_ENOCONV && f1 <= f0 && rep.gnorm <= f0 && x[0] == 1e-3 && x[1] == 2e-3,
+		   "energy equal to rounding, force growing: the start is kept (force %.3g -> %.3g)",
+		   f0, f1);
+	}
+	{
+		double x[2] = { 0, 0.5 }, g[2];
+		min_opts o;
+		min_opts_init(&o);
+		o.maxeval = 500;
+		min_report rep;
+		int st = min_run(2, x, cliff, NULL, &o, &rep);
+		cliff(x, g, NULL);
+		ok(st == MESH_ENOCONV && isfinite(g[0]) && isfinite(rep.gnorm) && x[0] <= 0.05,
+		   "a NaN gradient is not a small force: not converged, ends at x %.3g with "
+		   "force %.3g", x[0], rep.gnorm);
+	}
+	/* Re-relaxing a tissue above p_hex that was stopped short: the result
+	 * is never worse than its start. */
+	for (int i = 0; i < 2; i++) {
+		mesh *m = mesh_copy(hex);
+		perturb(m, 0.1, 500 + i);
+		model p = { i ? 3.86 : 3.9, 100 };
+		min_opts o;
+		min_opts_init(&o);
+		o.maxeval = 300;
+		min_report rep;
+		mesh_relax(m, &p, &o, &rep);
+		double W0, W1;
+		double f0 = max_force(m, &p, &W0);
+		o.maxeval = 3000;
+		mesh_relax(m, &p, &o, &rep);
+		double f1 = max_force(m, &p, &W1);
+		double slack = 1e-13 * (1 + W0);
+		ok(W1 <= W0 + slack && (W1 < W0 - slack || f1 <= f0 * (1 + 1e-9)),
+		   "p0 %.2f: re-relaxed from force %.3g: W %.15g -> %.15g, force %.3g", p.p0, f0,
+		   W0, W1, f1);
+		mesh_free(m);
+	}
+	/* The preconditioner hook of min_run: built once when plain CG is slow,
+	 * then one CG iteration per Newton step; an M handed in is used at
+	 * once; and plain CG when precond is 0. */
+	{
+		double x[QN];
+		for (int i = 0; i < QN; i++)
+			x[i] = 1 + 0.05 * sin(i);
+		min_opts o;
+		min_opts_init(&o);
+		o.hessvec = quad_hv;
+		o.pcsetup = quad_pcsetup;
+		o.pcapply = quad_pcapply;
+		o.gnorm = gnorm_inf;
+		o.ftol = 1e-12;
+		min_report rep;
+		int st = min_run(QN, x, quad, NULL, &o, &rep);
+		double e = 0;
+		for (int i = 0; i < QN; i++)
+			e = fmax(e, fabs(x[i] - 1));
+		ok(st == MESH_OK && e < 1e-10 && rep.npcsetup == 1,
+		   "quadratic: minimum found (error %.2g), %ld products, %ld build", e,
+		   rep.nhessvec, rep.npcsetup);
+		for (int i = 0; i < QN; i++)
+			x[i] = 1 + 0.05 * sin(i);
+		int before = quad_setups;
+		st = min_run(QN, x, quad, NULL, &o, &rep);
+		ok(st == MESH_OK && rep.nhessvec <= 2 && quad_setups == before && rep.npcsetup == 0,
+		   "an existing M is used from the first step: %ld products, no build", rep.nhessvec);
+		for (int i = 0; i < QN; i++)
+			x[i] = 1 + 0.05 * sin(i);
+		o.precond = 0;
+		st = min_run(QN, x, quad, NULL, &o, &rep);
+		ok(st == MESH_OK && rep.nhessvec > 50 && quad_setups == before,
+		   "precond 0: plain CG (%ld products)", rep.nhessvec);
 	}
 	mesh_free(hex);
 	return tap_done();

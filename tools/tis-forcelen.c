@@ -41,6 +41,9 @@ static const char help[] =
 	"  --tol F          residual force tolerance (1e-10)\n"
 	"  --algo NAME      newton, lbfgs, fire, bfgs2, tnewton, var2 (newton)\n"
 	"  --maxeval N      evaluations per point (100000)\n"
+	"  --no-precond     plain CG in Newton-CG (default: preconditioned by a\n"
+	"                   sparse Cholesky factorization of the Hessian, reused\n"
+	"                   along the sweep)\n"
 	"  --no-relax       do not relax the input first when it is not at rest\n"
 	"Other:\n"
 	"  --linear         instead of sweeps, the exact linear response\n"
@@ -78,7 +81,7 @@ static struct opts parse(int argc, char **argv)
 {
 	enum { O_P0 = 256, O_KA, O_STEP, O_RANGE, O_LMIN, O_NOBACK, O_PRED, O_TOL,
 	       O_ALGO, O_MAXEVAL, O_NORELAX, O_LINEAR, O_THREADS, O_JUNCTION,
-	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION };
+	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION, O_NOPC };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "index", required_argument, NULL, O_INDEX },
@@ -96,6 +99,7 @@ static struct opts parse(int argc, char **argv)
 		{ "algo", required_argument, NULL, O_ALGO },
 		{ "maxeval", required_argument, NULL, O_MAXEVAL },
 		{ "no-relax", no_argument, NULL, O_NORELAX },
+		{ "no-precond", no_argument, NULL, O_NOPC },
 		{ "linear", no_argument, NULL, O_LINEAR },
 		{ "threads", required_argument, NULL, O_THREADS },
 		{ "help", no_argument, NULL, 'h' },
@@ -138,6 +142,7 @@ static struct opts parse(int argc, char **argv)
 			break;
 		case O_MAXEVAL: o.fl.min.maxeval = cli_long("--maxeval", optarg, 1, 1000000000L); break;
 		case O_NORELAX: o.relax = 0; break;
+		case O_NOPC: o.fl.min.precond = 0; break;
 		case O_LINEAR: o.linear = 1; break;
 		case O_THREADS: o.threads = (int)cli_long("--threads", optarg, 1, 64); break;
 		case 'h': cli_help(help);

@@ -13,7 +13,7 @@
 
 static const char usage[] =
 	"[--p0 X] [--ka Y] [--ftol F] [--maxeval N] [--algo NAME] [--no-polish]\n"
-	"       [--strict] [--quiet] [MESH]";
+	"       [--no-precond] [--strict] [--quiet] [MESH]";
 static const char help[] =
 	"Minimize the vertex-model energy W over all vertex positions at fixed\n"
 	"topology and write the relaxed mesh to stdout.  Every mesh of the input\n"
@@ -27,6 +27,8 @@ static const char help[] =
 	"  --algo NAME   newton (default: Newton-CG, analytic Hessian), lbfgs,\n"
 	"                tnewton, var2 (NLopt), bfgs2 (GSL), fire (FIRE 2.0)\n"
 	"  --no-polish   do not finish with Newton-CG when the method stalls\n"
+	"  --no-precond  plain CG in Newton-CG (default: preconditioned by a\n"
+	"                sparse Cholesky factorization of the Hessian)\n"
 	"  --strict      exit 3 if the force tolerance is not reached\n"
 	"  --quiet       no report (a missed tolerance is still reported)\n"
 	"  -h, --help    this help\n"
@@ -48,6 +50,7 @@ static struct opts parse(int argc, char **argv)
 		{ "maxeval", required_argument, NULL, 'n' },
 		{ "algo", required_argument, NULL, 'a' },
 		{ "no-polish", no_argument, NULL, 'P' },
+		{ "no-precond", no_argument, NULL, 'C' },
 		{ "strict", no_argument, NULL, 's' },
 		{ "quiet", no_argument, NULL, 'q' },
 		{ "help", no_argument, NULL, 'h' },
@@ -69,6 +72,7 @@ static struct opts parse(int argc, char **argv)
 				                "tnewton, var2, bfgs2, fire)", optarg);
 			break;
 		case 'P': o.mo.polish = 0; break;
+		case 'C': o.mo.precond = 0; break;
 		case 's': o.strict = 1; break;
 		case 'q': o.quiet = 1; break;
 		case 'h': cli_help(help);
@@ -121,10 +125,11 @@ int main(int argc, char **argv)
 			snprintf(which, sizeof which, "mesh %d: ", nmesh);
 		if (!o.quiet)
 			fprintf(stderr, "%s: %s%s%s: %ld iterations (%ld polish), %ld evaluations, "
-			        "%ld hessian products, W %.12g -> %.12g, max force %.3g, %.3f s\n",
+			        "%ld hessian products, %ld factorizations, W %.12g -> %.12g, max force %.3g, "
+			        "%.3f s\n",
 			        cli_name, which, min_algo_name(o.mo.algo),
 			        o.mo.polish && o.mo.algo != MIN_NEWTON && rep.npolish ? "+newton" : "",
-			        rep.niter, rep.npolish, rep.neval, rep.nhessvec, rep.f0, rep.f,
+			        rep.niter, rep.npolish, rep.neval, rep.nhessvec, rep.npcsetup, rep.f0, rep.f,
 			        rep.gnorm, dt);
 		if (st == MESH_ENOCONV) {
 			missed = 1;

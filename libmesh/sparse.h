@@ -1,0 +1,72 @@
+/* sparse.h - sparse symmetric matrices and their Cholesky factorization.
+ *
+ * The preconditioner of Newton-CG (minimize.c) is a complete sparse
+ * Cholesky factorization of the Hessian plus a small shift: the Hessian of
+ * a vertex-model tissue couples only the vertices of one cell, so it has
+ * ~26 nonzeros per row, and with a fill-reducing (minimum degree) ordering
+ * its factor has ~105k nonzeros for a 324-cell tissue (1296 variables).
+ * One factorization (~2 ms) serves many solves (~0.07 ms each; bench/
+ * results-relax.md).  Generic: nothing here knows about meshes.
+ */
+#ifndef TIS_SPARSE_H
+#define TIS_SPARSE_H
+
+/* A symmetric n x n matrix: its lower triangle in compressed columns, row
+ * indices ascending within a column, the diagonal always present (first). */
+typedef struct {
+	int n, nnz;
+	int *colp;     /* n + 1 */
+	int *rowi;     /* nnz */
+	double *val;   /* nnz */
+} spsym;
+
+/* The pattern of the pairs (ij[2k], ij[2k+1]), k < npairs (either order,
+ * duplicates allowed), plus the diagonal; values zero.  NULL if out of
+ * memory or an index is out of range. */
+spsym *spsym_alloc(int n, int npairs, const int *ij);
+void spsym_free(spsym *a);
+void spsym_zero(spsym *a);
+/* Position of entry (i, j) (either order) in rowi/val, or -1 if it is not
+ * in the pattern.  Binary search in one column. */
+int spsym_find(const spsym *a, int i, int j);
+/* y = A x (the full symmetric matrix). */
+void spsym_mulvec(const spsym *a, const double *x, double *y);
+
+/* The Cholesky factor L L^T = P (A + shift I) P^T, P a minimum degree
+ * permutation computed once per pattern by spchol_analyze; the numeric
+ * factorization is repeated whenever the values change. */
+typedef struct spchol spchol;
+
+/* Ordering and symbolic factorization for the pattern of a.  NULL if out
+ * of memory. */
+spchol *spchol_analyze(const spsym *a);
+void spchol_free(spchol *c);
+/* Nonzeros of L (a measure of its cost: a solve is ~4 flops per entry). */
+long spchol_nnz(const spchol *c);
+
+/* Factor A + shift I (a must have the pattern c was analyzed for).  MESH_OK,
+ * or MESH_EDOM if it is not numerically positive definite (a pivot below
+ * 1e-12 times the largest diagonal entry); then c holds no usable factor. */
+int spchol_factor(spchol *c, const spsym *a, double shift);
+
+/* A positive definite factor near A: A + s I with the first s of the
+ * sequence s0, 10 s0, 100 s0, ... for which spchol_factor succeeds, s0 =
+ * max(smin, *shift) (smin > 0; *shift a warm start, say the last shift
+ * used divided by 100), at most 30 tries.  *shift gets s.  MESH_OK or
+ * MESH_EDOM. */
+int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift);
+
+/* The preconditioner of Newton-CG: A + s I with the smallest s from the
+ * sequence above, smin = 1e-9 of A's largest diagonal entry and the warm
+ * start *shift / 100 (0 for none); *shift gets s.  At a stable minimum of
+ * W that lifts only the two translations (zero modes), far from it it is a
+ * Levenberg-Marquardt step.  MESH_OK or MESH_EDOM. */
+int spchol_precond(spchol *c, const spsym *a, double *shift);
+
+/* x = (L L^T)^{-1} b in the original ordering (x may alias b), with L
+ * rounded to single precision (a preconditioner needs no more, and the
+ * solve is bound by memory traffic): relative error ~1e-7 times the
+ * condition number.  No allocation. */
+void spchol_solve(spchol *c, const double *b, double *x);
+
+#endif
