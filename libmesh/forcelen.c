@@ -31,7 +31,7 @@ void fl_opts_init(fl_opts *o)
 	/* Newton-CG on the exact Hessian of the parametrized energy: from a
 	 * cubic prediction one or two Newton steps reach 1e-10, where L-BFGS
 	 * stalls at rounding of the energy near 1e-7 and needs the same
-	 * Newton polish anyway (bench/results-forcelen.md). */
+	 * Newton polish anyway (bench/RESULTS.md). */
 	o->min.algo = MIN_NEWTON;
 	o->min.ftol = 1e-10;
 }

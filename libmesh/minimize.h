@@ -56,7 +56,7 @@ typedef struct {
 	 * needed more than pcmaxit iterations (M too far from the Hessian). */
 	int (*pcsetup)(const double *x, void *data);
 	int (*pcapply)(const double *r, double *z, void *data);
-	int pcmaxit;       /* default 6 (bench/results-relax.md) */
+	int pcmaxit;       /* default 6 (bench/RESULTS.md) */
 	int precond;       /* 1 (default): mesh_relax and fl_sweep supply their
 	                      sparse Cholesky preconditioner; 0: plain CG
 	                      (min_run uses pcsetup/pcapply only when set) */
@@ -73,7 +73,7 @@ typedef struct {
 } min_report;
 
 /* Defaults: MIN_NEWTON (fastest to every force level in bench/relax.sh,
- * see bench/results-relax.md) with polish, ftol 1e-10, maxeval 100000, gnorm,
+ * see bench/RESULTS.md) with polish, ftol 1e-10, maxeval 100000, gnorm,
  * hessvec, pcsetup and pcapply NULL, pcmaxit 6, precond 1.  maxeval bounds objective evaluations plus Hessian-vector
  * products together. */
 void min_opts_init(min_opts *o);

@@ -6,7 +6,7 @@
  * ~26 nonzeros per row, and with a fill-reducing (minimum degree) ordering
  * its factor has ~105k nonzeros for a 324-cell tissue (1296 variables).
  * One factorization (~2 ms) serves many solves (~0.07 ms each; bench/
- * results-relax.md).  Generic: nothing here knows about meshes.
+ * bench/RESULTS.md).  Generic: nothing here knows about meshes.
  */
 #ifndef TIS_SPARSE_H
 #define TIS_SPARSE_H

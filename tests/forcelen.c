@@ -175,8 +175,8 @@ int main(void)
 		long work = 0;
 		for (int i = 0; i < nb; i++)
 			work += pb_pts[i].neval;
-		/* exact a1 and fitted a3 at p0 3.70 from bench/results-
-		 * forcelen.md: the central difference of f is a1 + a3 h^2 */
+		/* exact a1 and fitted a3 at p0 3.70 from bench/RESULTS.md:
+		 * the central difference of f is a1 + a3 h^2 */
 		double slope = hp && hm ? (hp->f - hm->f) / (2 * h) : NAN;
 		double want = -0.277295162624 + -2.45485 * h * h;
 		ok(sb == MESH_OK && fabs(slope - want) < 1e-6 && work < 40 * nb,
