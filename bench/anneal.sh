@@ -12,6 +12,9 @@
 #                                   dt = dr = k * 0.001 for each k, seeds
 #                                   $ANNEAL_SEEDS (default 1 2 3): CPU time
 #                                   and the hexagon fraction
+#   ANNEAL_OUDT="0 0.01 0.05" bench/anneal.sh
+#                                   the same study for the noise update
+#                                   interval --ou-dt H (dt = dr = 0.001)
 #
 # Times are user CPU seconds (/usr/bin/time), so other load on the machine
 # matters less than for wall time.
@@ -30,10 +33,12 @@ steps() { sed -n 's/.* \([0-9]*\) steps, \([0-9]*\) T1s.*/\1 \2/p' "$T/out.mesh"
 f6() { awk '/^cells/ { c = 1; next } /^(junctions|end)/ { c = 0 } c { n++; h += ($1 == 6) } END { printf "%.4f", h / n }' "$T/out.mesh"; }
 
 echo "# stage	time_units	steps	T1s	user_s	us_per_step"
-for s in 0.5 0; do
-	u=$(run --stage $s:50 --relax 0)
+for s in 0.5 0.5/0.01 0; do
+	sig=${s%/*} h=0
+	[ "$s" = "$sig" ] || h=${s#*/}
+	u=$(run --stage $sig:50 --relax 0 --ou-dt $h)
 	set -- $(steps)
-	echo "sigma $s	50	$1	$2	$u	$(awk -v u="$u" -v n="$1" 'BEGIN { printf "%.1f", 1e6 * u / n }')"
+	echo "sigma $sig ou-dt $h	50	$1	$2	$u	$(awk -v u="$u" -v n="$1" 'BEGIN { printf "%.1f", 1e6 * u / n }')"
 done
 
 if [ "${ANNEAL_FULL:-0}" = 1 ]; then
@@ -51,6 +56,17 @@ if [ -n "${ANNEAL_DT:-}" ]; then
 			u=$(run --stage 0.5:100 --stage 0:300 --relax 50 --dt "$dt" --dr "$dt" --seed $seed)
 			set -- $(steps)
 			echo "$k	$seed	$u	$1	$(f6)"
+		done
+	done
+fi
+
+if [ -n "${ANNEAL_OUDT:-}" ]; then
+	echo "# ou_dt	seed	user_s	steps	f6   (0.5:100, 0:300, relax 50)"
+	for h in $ANNEAL_OUDT; do
+		for seed in ${ANNEAL_SEEDS:-1 2 3}; do
+			u=$(run --stage 0.5:100 --stage 0:300 --relax 50 --ou-dt "$h" --seed $seed)
+			set -- $(steps)
+			echo "$h	$seed	$u	$1	$(f6)"
 		done
 	done
 fi

@@ -22,6 +22,17 @@ struct dyn {
 	double *lprev;        /* nj: l2 at the start of the previous step */
 	double *ldot;         /* nj: dl/dt (feedback mode) */
 	unsigned char *active;/* nj flags or NULL (all) */
+	/* T1 candidates: the junctions that were shorter than t1_length +
+	 * margin when the list was made, plus those a T1 has moved since.  No
+	 * vertex has moved more than disp since then, so no other junction
+	 * can be below t1_length while 2 disp < margin: only the candidates'
+	 * lengths are needed each step. */
+	int *cand;            /* ncand junction ids */
+	int ncand;
+	unsigned char *incand;/* nj flags: j is in cand */
+	int cand_ok;          /* cand is valid for the current options */
+	double margin, disp;
+	double ou_acc;        /* time since the last OU update (ou_dt > 0) */
 	int have_lprev;
 	int have_dprev;       /* jd holds the last step's vectors (T1s off) */
 	dyn_counts c;
@@ -45,7 +56,7 @@ void dyn_opts_init(dyn_opts *o)
 {
 	*o = (dyn_opts){ .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0.01,
 			 .t1_new = 1e-3, .tau = 1, .sigma = 0, .mode = DYN_OU,
-			 .gamma0 = 0, .l_stop = 1e-6 };
+			 .gamma0 = 0, .l_stop = 1e-6, .ou_dt = 0 };
 }
 
 static int check_opts(const dyn_opts *o, mesh_error *err)
@@ -57,6 +68,8 @@ static int check_opts(const dyn_opts *o, mesh_error *err)
 		return fail(err, MESH_EDOM, "bad T1 lengths");
 	if (!(o->l_stop >= 0 && isfinite(o->l_stop)))
 		return fail(err, MESH_EDOM, "l_stop must be non-negative");
+	if (!(o->ou_dt >= 0 && isfinite(o->ou_dt)))
+		return fail(err, MESH_EDOM, "ou_dt must be non-negative");
 	if (!(o->tau > 0 && isfinite(o->tau)) || !(o->sigma >= 0 && isfinite(o->sigma)) ||
 	    !isfinite(o->gamma0))
 		return fail(err, MESH_EDOM, "tau must be positive, sigma non-negative");
@@ -84,7 +97,10 @@ int dyn_alloc(mesh *m, const model *p, const dyn_opts *o, unsigned long seed,
 	d->lprev = malloc(nj * sizeof *d->lprev);
 	d->l2 = malloc(nj * sizeof *d->l2);
 	d->ldot = malloc(nj * sizeof *d->ldot);
-	if (!d->ws || !d->f || !d->jd || !d->lprev || !d->l2 || !d->ldot) {
+	d->cand = malloc(nj * sizeof *d->cand);
+	d->incand = calloc(nj, 1);
+	if (!d->ws || !d->f || !d->jd || !d->lprev || !d->l2 || !d->ldot || !d->cand ||
+	    !d->incand) {
 		dyn_free(d);
 		return fail(err, MESH_ENOMEM, "out of memory");
 	}
@@ -103,6 +119,8 @@ void dyn_free(dyn *d)
 	free(d->lprev);
 	free(d->l2);
 	free(d->ldot);
+	free(d->cand);
+	free(d->incand);
 	free(d->active);
 	free(d);
 }
@@ -165,6 +183,16 @@ static double lengths(dyn *d)
 	return lmin;
 }
 
+/* Squared length of junction j: the one expression every T1 test uses,
+ * so that a length computed in any pass is the same number. */
+static inline double jlen2(const mesh *m, const double *r, int j)
+{
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+	double dx = r[2 * b] - r[2 * a] + m->jimg[2 * j];
+	double dy = r[2 * b + 1] - r[2 * a + 1] + m->jimg[2 * j + 1];
+	return dx * dx + dy * dy;
+}
+
 /* Squared junction lengths into lprev-comparable l2 (no square roots: the
  * T1 test only compares lengths); the smallest. */
 static double lengths2(dyn *d)
@@ -174,10 +202,7 @@ static double lengths2(dyn *d)
 	double *restrict l2 = d->l2;
 	double lmin = INFINITY;
 	for (int j = 0; j < m->nj; j++) {
-		int a = m->jv[2 * j], b = m->jv[2 * j + 1];
-		double dx = r[2 * b] - r[2 * a] + m->jimg[2 * j];
-		double dy = r[2 * b + 1] - r[2 * a + 1] + m->jimg[2 * j + 1];
-		double q = dx * dx + dy * dy;
+		double q = jlen2(m, r, j);
 		l2[j] = q;
 		if (q < lmin)
 			lmin = q;
@@ -185,8 +210,49 @@ static double lengths2(dyn *d)
 	return lmin;
 }
 
-/* T1 every junction below the threshold that is shrinking, shortest
- * first.  Leaves jd current. */
+/* Make the candidate list from all lengths (into l2).  A junction that
+ * joins the list was not a candidate before, so it was longer than the
+ * threshold at the previous step: lprev = infinity says the same to the
+ * shrink test (l < threshold < lprev).  On the first list (no previous
+ * step) nothing is shrinking: lprev = l2. */
+static void cand_refresh(dyn *d, int first)
+{
+	const mesh *m = d->m;
+	const double lim = (d->o.t1_length + d->margin) * (d->o.t1_length + d->margin);
+	lengths2(d);
+	d->ncand = 0;
+	for (int j = 0; j < m->nj; j++) {
+		if (d->l2[j] < lim) {
+			if (!d->incand[j] || first)
+				d->lprev[j] = first ? d->l2[j] : INFINITY;
+			d->incand[j] = 1;
+			d->cand[d->ncand++] = j;
+		} else {
+			d->incand[j] = 0;
+		}
+	}
+	d->disp = 0;
+	d->cand_ok = 1;
+}
+
+/* The candidates' lengths into l2; the smallest. */
+static double cand_lengths(dyn *d)
+{
+	const mesh *m = d->m;
+	const double *r = m->r;
+	double lmin = INFINITY;
+	for (int k = 0; k < d->ncand; k++) {
+		int j = d->cand[k];
+		double q = jlen2(m, r, j);
+		d->l2[j] = q;
+		if (q < lmin)
+			lmin = q;
+	}
+	return lmin;
+}
+
+/* T1 every candidate below the threshold that is shrinking, shortest
+ * first (ties: lowest index).  Leaves l2 current for the candidates. */
 static int do_t1s(dyn *d, mesh_error *err)
 {
 	mesh *m = d->m;
@@ -194,18 +260,19 @@ static int do_t1s(dyn *d, mesh_error *err)
 	for (;;) {
 		int best = -1;
 		double lbest = thr;
-		for (int j = 0; j < m->nj; j++) {
+		for (int k = 0; k < d->ncand; k++) {
+			int j = d->cand[k];
 			double l = d->l2[j];
-			if (l < lbest && l < d->lprev[j]) {
+			if (l < d->lprev[j] && (l < lbest || (l == lbest && j < best))) {
 				best = j;
 				lbest = l;
 			}
 		}
 		if (best < 0)
 			return MESH_OK;
-		int a = m->jv[2 * best], b = m->jv[2 * best + 1];
 		mesh_error e2;
-		int st = mesh_t1(m, best, d->o.t1_new, &e2);
+		int touched[5];
+		int st = mesh_t1_touch(m, best, d->o.t1_new, touched, &e2);
 		if (st == MESH_ENOMEM)
 			return fail(err, st, "out of memory");
 		if (st != MESH_OK) {
@@ -215,12 +282,17 @@ static int do_t1s(dyn *d, mesh_error *err)
 			continue;
 		}
 		d->c.nt1++;
-		lengths2(d);
-		/* a and b moved: the junctions at them have no shrink history */
-		for (int j = 0; j < m->nj; j++) {
-			int u = m->jv[2 * j], v = m->jv[2 * j + 1];
-			if (u == a || u == b || v == a || v == b)
-				d->lprev[j] = d->l2[j];
+		/* a and b moved (further than disp allows for): the junctions at
+		 * them are candidates now, with no shrink history; no other
+		 * junction changed */
+		for (int e = 0; e < 5; e++) {
+			int j = touched[e];
+			d->l2[j] = jlen2(m, m->r, j);
+			d->lprev[j] = d->l2[j];
+			if (!d->incand[j]) {
+				d->incand[j] = 1;
+				d->cand[d->ncand++] = j;
+			}
 		}
 	}
 }
@@ -272,24 +344,29 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		return fail(err, MESH_ENOMEM, "out of memory");
 	if (o.sigma > 0 && d->noise == NULL && (d->noise = ou_alloc(d->seed)) == NULL)
 		return fail(err, MESH_ENOMEM, "out of memory");
-	if (t1on && !d->have_lprev) {
-		lengths2(d);
-		memcpy(d->lprev, d->l2, nj * sizeof *d->lprev);
-		d->have_lprev = 1;
-	}
 	double *restrict f = d->f, *restrict jd = d->jd, *restrict r = m->r;
 	const double thr2 = o.t1_length * o.t1_length;
 	d->have_dprev = 0;
+	/* the options may have changed since the last run */
+	d->margin = 20 * o.dr_max;
+	d->cand_ok = 0;
 
 	while (d->c.t < t_end && !(stop && *stop)) {
 		if (t1on) {
-			double lmin = lengths2(d);
+			/* rounding of the moves and lengths is far below the slack */
+			if (!d->cand_ok || 2 * d->disp * (1 + 1e-9) + 1e-12 >= d->margin) {
+				cand_refresh(d, !d->have_lprev);
+				d->have_lprev = 1;
+			}
+			double lmin = cand_lengths(d);
 			if (lmin < thr2) {
 				if ((st = do_t1s(d, err)) != MESH_OK)
 					return st;
 				lmin = INFINITY;
-				for (int j = 0; j < nj; j++)
-					lmin = d->l2[j] < lmin ? d->l2[j] : lmin;
+				for (int k = 0; k < d->ncand; k++) {
+					double q = d->l2[d->cand[k]];
+					lmin = q < lmin ? q : lmin;
+				}
 			}
 			if (!(lmin > 1e-24))
 				return fail(err, MESH_EDOM, "a junction collapsed to zero length at t = %.6g", d->c.t);
@@ -333,8 +410,19 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		}
 		for (int i = 0; i < 2 * nv; i++)
 			r[i] -= dt * f[i];
+		d->disp += dt * fmax;
 		if (dg) {
-			ou_step(d->noise, dg, nj, d->active, dt, o.tau, o.sigma);
+			if (o.ou_dt == 0) {
+				ou_step(d->noise, dg, nj, d->active, dt, o.tau, o.sigma);
+			} else {
+				/* exact OU over the time since the last update, the
+				 * tension held in between; every stage ends on one */
+				d->ou_acc += dt;
+				if (d->ou_acc >= o.ou_dt || last) {
+					ou_step(d->noise, dg, nj, d->active, d->ou_acc, o.tau, o.sigma);
+					d->ou_acc = 0;
+				}
+			}
 			if (feedback) {
 				const unsigned char *act = d->active;
 				for (int j = 0; j < nj; j++)
@@ -347,7 +435,8 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			}
 		}
 		if (t1on)
-			memcpy(d->lprev, d->l2, nj * sizeof *d->lprev);
+			for (int k = 0; k < d->ncand; k++)
+				d->lprev[d->cand[k]] = d->l2[d->cand[k]];
 		d->c.t = last ? t_end : d->c.t + dt;
 		d->c.nstep++;
 		if (obs && obs(d, data))

@@ -12,8 +12,9 @@
  *   DYN_FEEDBACK:  d(dg)/dt = -dg/tau - (gamma0 + dg) (dl/dt)/l
  *                             + sqrt(2 sigma^2/tau) xi        (paper eq. 1)
  *
- * The OU part is stepped exactly (noise.h); the feedback term by Euler,
- * with dl/dt = e.(F_b - F_a) from the forces of the same step.
+ * The OU part is stepped exactly (noise.h), with every step or, with
+ * ou_dt > 0, on a coarser interval; the feedback term by Euler, with
+ * dl/dt = e.(F_b - F_a) from the forces of the same step.
  *
  * With T1s on (t1_length > 0) a junction shorter than t1_length that got
  * shorter since the previous step is T1'd (topology.h) to a new junction
@@ -21,7 +22,12 @@
  * freshly made junction (which starts below the threshold) from being
  * flipped straight back; if it then shrinks instead of growing, it is.
  * A T1 that is not allowed (a triangle would lose a side) is counted and
- * retried while the junction keeps shrinking.
+ * retried while the junction keeps shrinking.  Only junctions that can be
+ * below the threshold are looked at: those shorter than t1_length +
+ * 20 dr_max when last listed, a list made again once the vertices may
+ * have moved far enough (steps move no vertex further than dr_max).  If
+ * t1_length changes between runs, a junction that was far above the old
+ * threshold counts as shrinking at the first step of the next run.
  */
 #ifndef TIS_DYNAMICS_H
 #define TIS_DYNAMICS_H
@@ -48,6 +54,13 @@ typedef struct {
 	double l_stop;     /* T1s off: stop (MESH_EDOM) when a junction is
 	                      shorter than this or turned over in a step,
 	                      before it passes through 0 (1e-6) */
+	double ou_dt;      /* 0 (the paper's scheme): an exact OU step with
+	                      every Euler step.  > 0: an exact OU step over the
+	                      time since the last one once that reaches ou_dt
+	                      (and when a run reaches t_end), the tensions held
+	                      constant in between: far fewer random numbers, the
+	                      OU statistics exact at the update times, an error
+	                      of order ou_dt/tau in the forces between them */
 } dyn_opts;
 
 void dyn_opts_init(dyn_opts *o);

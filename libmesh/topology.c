@@ -55,7 +55,7 @@ static double min_image(double dx, double l)
 /* A T1 touches four cells and five junctions; it is done in place (no
  * mesh_build, which is O(N) with allocations): under strong noise a stuck
  * four-fold vertex can flip back and forth every step. */
-int mesh_t1(mesh *m, int j, double lnew, mesh_error *err)
+int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 {
 	if (j < 0 || j >= m->nj)
 		return fail(err, MESH_EDOM, "t1: junction %d out of range 0..%d", j, m->nj - 1);
@@ -157,6 +157,22 @@ int mesh_t1(mesh *m, int j, double lnew, mesh_error *err)
 	for (int k = kmin; k <= kmax && st == MESH_OK; k++) {
 		int s0 = w;
 		int touched = k == L || k == R || k == Ca || k == Cb;
+		if (!touched) {
+			/* a run of cells between the four only moves: one copy */
+			int k1 = k;
+			while (k1 + 1 <= kmax && k1 + 1 != L && k1 + 1 != R && k1 + 1 != Ca && k1 + 1 != Cb)
+				k1++;
+			int c0 = m->coff[k];
+			size_t n = (size_t)(m->coff[k1 + 1] - c0);
+			memcpy(ncv + w, m->cv + c0, n * sizeof *ncv);
+			memcpy(ncj + w, m->cj + c0, n * sizeof *ncj);
+			memcpy(ncimg + 2 * (size_t)w, m->cimg + 2 * (size_t)c0, 2 * n * sizeof *ncimg);
+			for (int kk = k; kk <= k1; kk++)
+				ncoff[kk + 1 - kmin] = w + m->coff[kk + 1] - c0;
+			w += (int)n;
+			k = k1;
+			continue;
+		}
 		for (int i = m->coff[k]; i < m->coff[k + 1]; i++) {
 			int v = m->cv[i];
 			if ((k == L && v == b) || (k == R && v == a))
@@ -170,8 +186,6 @@ int mesh_t1(mesh *m, int j, double lnew, mesh_error *err)
 				ncv[w++] = k == Ca ? b : a;
 		}
 		ncoff[k + 1 - kmin] = w;
-		if (!touched)
-			continue;
 		/* junctions and image offsets of the four cells, walking round */
 		double ox = 0, oy = 0, area = 0, px = 0, py = 0;
 		for (int i = s0; i < w; i++) {
@@ -262,5 +276,12 @@ int mesh_t1(mesh *m, int j, double lnew, mesh_error *err)
 	m->jc[2 * j + 1] = Ca;
 	if (m->dg)
 		m->dg[j] = 0;
+	if (touched)
+		memcpy(touched, jj, sizeof jj);
 	return MESH_OK;
+}
+
+int mesh_t1(mesh *m, int j, double lnew, mesh_error *err)
+{
+	return mesh_t1_touch(m, j, lnew, NULL, err);
 }

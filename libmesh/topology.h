@@ -33,4 +33,10 @@
  * distinct, or a cell would get non-positive area); MESH_ENOMEM. */
 int mesh_t1(mesh *m, int j, double lnew, mesh_error *err);
 
+/* mesh_t1, and on MESH_OK the five junctions at a and b (the only ones
+ * whose vertices, coordinates or image offsets changed; j is one of
+ * them) into touched[0..4], so that a caller keeping per-junction lengths
+ * updates five instead of all. */
+int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err);
+
 #endif

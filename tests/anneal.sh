@@ -3,7 +3,7 @@
 # signals.  Short runs on a 6x6 tissue.
 . "$(dirname "$0")/lib.sh"
 
-plan 28
+plan 33
 
 # a mesh is valid when tis-anneal reads it back (mesh_build checks every
 # invariant) through a zero-length run
@@ -21,6 +21,8 @@ fails_with 2 "--stage without a colon" tis-anneal --stage 0.5 "$T/hex.mesh"
 fails_with 2 "--stage with a bad duration" tis-anneal --stage 0.5:x "$T/hex.mesh"
 fails_with 2 "--sigma together with --stage" tis-anneal --sigma 0.2 --stage 0.5:1 "$T/hex.mesh"
 fails_with 2 "--dt 0" tis-anneal --dt 0 "$T/hex.mesh"
+fails_with 2 "--ou-dt negative" tis-anneal --ou-dt -0.01 "$T/hex.mesh"
+fails_with 2 "--ou-dt nan" tis-anneal --ou-dt nan "$T/hex.mesh"
 fails_with 2 "--seed not an integer" tis-anneal --seed 1.5 "$T/hex.mesh"
 fails_with 1 "missing input file" tis-anneal "$T/nonexistent.mesh"
 printf 'tismesh 1\nbox 1 1\nvertices 3\n0 0\n' >"$T/bad.mesh"
@@ -30,7 +32,7 @@ fails_with 1 "T1s off under noise: stops before a junction passes through zero" 
 	tis-anneal --t1 0 --stage 0.5:50 --relax 0 "$T/hex.mesh"
 
 # a short noisy protocol on stdin, twice with one seed, once with another
-run() { tis-anneal --stage 0.5:4 --stage 0.1:2 --relax 2 --seed "$1" <"$T/hex.mesh"; }
+run() { s=$1; shift; tis-anneal --stage 0.5:4 --stage 0.1:2 --relax 2 --seed "$s" "$@" <"$T/hex.mesh"; }
 run 5 >"$T/a.mesh" 2>"$T/a.err" && run 5 >"$T/b.mesh" && run 6 >"$T/c.mesh"
 ok "short protocol writes a valid mesh" valid "$T/a.mesh"
 ok "the same seed gives the same bytes" cmp -s "$T/a.mesh" "$T/b.mesh"
@@ -41,6 +43,17 @@ ok "nothing on stderr when it is not a terminal" test ! -s "$T/a.err"
 ok "a relaxed mesh has no tension state" sh -c "! grep -q '^junctions' '$T/a.mesh'"
 tis-anneal --stage 0.5:2 --relax 0 "$T/hex.mesh" >"$T/t.mesh"
 ok "without relaxation the tensions are written" grep -q '^junctions' "$T/t.mesh"
+
+# --ou-dt: 0 is the default scheme; a coarser noise update is another
+# trajectory, deterministic, and says so in the history line
+run 5 --ou-dt 0 >"$T/o0.mesh"
+ok "--ou-dt 0 gives the default's bytes (apart from the command line)" \
+	sh -c "grep -v '^history' '$T/a.mesh' >'$T/h1'; grep -v '^history' '$T/o0.mesh' >'$T/h2'; cmp -s '$T/h1' '$T/h2'"
+run 5 --ou-dt 0.01 >"$T/o1.mesh" && run 5 --ou-dt 0.01 >"$T/o2.mesh"
+ok "--ou-dt 0.01: the same seed gives the same bytes, a valid mesh" \
+	sh -c "cmp -s '$T/o1.mesh' '$T/o2.mesh' && tis-anneal --stage 0:0 --relax 0 '$T/o1.mesh' >/dev/null"
+ok "--ou-dt 0.01: another trajectory, and the history line says so" \
+	sh -c "grep -v '^history' '$T/o1.mesh' >'$T/h3'; ! cmp -s '$T/h1' '$T/h3' && grep -q 'noise updated every 0.01' '$T/o1.mesh'"
 
 # sigma 0 on a honeycomb: force-free, nothing happens, no tension state
 tis-anneal --stage 0:3 --relax 0 --p0 3.65 "$T/hex.mesh" >"$T/z.mesh"

@@ -1,6 +1,8 @@
 /* Ornstein-Uhlenbeck tension noise with the vertices frozen: stationary
  * mean 0 and variance sigma^2, autocorrelation exp(-t/tau), the exact step
- * for a long dt, determinism, and no random numbers at sigma = 0.
+ * for a long dt, determinism, no random numbers at sigma = 0, and the
+ * coarse noise update of dyn_run (ou_dt): held between updates, updates
+ * ou_dt apart, stationary variance and one-update correlation exact.
  * Tolerances are 5 standard errors of the estimates. */
 #include <math.h>
 #include <stdlib.h>
@@ -13,9 +15,56 @@
 #define N 1000         /* independent processes (junctions) */
 #define K 40           /* snapshots per process, 3 tau apart */
 
+/* Watches the tensions of a run with ou_dt: when and how they change. */
+struct watch {
+	const mesh *m;
+	double *prev;
+	int nj;
+	double tend;
+	double tlast, dmin, dmax;   /* times of updates, intervals */
+	long nupd, nheld;           /* steps with and without an update */
+	double sxy, sxx, syy, n;    /* pairs (before, after) of one update */
+};
+
+static int watch_step(dyn *d, void *data)
+{
+	struct watch *w = data;
+	const mesh *m = w->m;
+	dyn_counts c;
+	dyn_counts_get(d, &c);
+	/* an update changes every tension; a T1 zeroes one */
+	int changed = 0;
+	for (int j = 0; j < w->nj; j++)
+		changed += m->dg[j] != w->prev[j];
+	if (2 * changed < w->nj) {
+		w->nheld++;
+		for (int j = 0; j < w->nj; j++)
+			w->prev[j] = m->dg[j];
+		return 0;
+	}
+	if (w->nupd > 0 && c.t < w->tend) {   /* the run's end has an update too */
+		double gap = c.t - w->tlast;
+		w->dmin = gap < w->dmin ? gap : w->dmin;
+		w->dmax = gap > w->dmax ? gap : w->dmax;
+	}
+	w->nupd++;
+	w->tlast = c.t;
+	for (int j = 0; j < w->nj; j++) {
+		/* after the first 5 tau; a T1 (dg = 0) starts a junction afresh */
+		if (c.t > 5 && w->prev[j] != 0 && m->dg[j] != 0) {
+			w->sxy += w->prev[j] * m->dg[j];
+			w->sxx += w->prev[j] * w->prev[j];
+			w->syy += m->dg[j] * m->dg[j];
+			w->n++;
+		}
+		w->prev[j] = m->dg[j];
+	}
+	return 0;
+}
+
 int main(void)
 {
-	tap_plan(14);
+	tap_plan(18);
 	const double sigma = 0.3, tau = 2.0, dt = 0.01;
 	ou_noise *g = ou_alloc(42);
 	double *x = malloc(N * sizeof *x), *x0 = malloc(N * sizeof *x0);
@@ -129,6 +178,42 @@ int main(void)
 	dyn_free(dy);
 	free(act);
 	mesh_free(m);
+
+	/* ou_dt: exact OU updates every ou_dt of accumulated time, tensions
+	 * held in between, on a noisy tissue with T1s. */
+	{
+		mesh *mc;
+		lattice_honeycomb(6, 6, &mc, &err);
+		dyn_opts oc;
+		dyn_opts_init(&oc);
+		const double h = 0.05, sc = 0.3;
+		oc.sigma = sc;
+		oc.ou_dt = h;
+		dyn *dc;
+		model pc = { .p0 = 3.65, .ka = 100 };
+		dyn_alloc(mc, &pc, &oc, 3, &dc, &err);
+		mesh_tension_alloc(mc);
+		struct watch ww = { .m = mc, .nj = mc->nj, .dmin = INFINITY, .tend = 60 };
+		ww.prev = calloc(mc->nj, sizeof *ww.prev);
+		int stc = dyn_run(dc, 60, NULL, watch_step, &ww, &err);
+		struct watch *w = &ww;
+		diag("ou_dt %.2f: %ld updates, %ld held steps, intervals %.6f..%.6f", h, w->nupd,
+		     w->nheld, w->dmin, w->dmax);
+		ok(stc == MESH_OK && w->nupd > 0.9 * 60 / (h + 1e-3) && w->nupd <= 60 / h + 1 &&
+		   w->nheld > 10 * w->nupd, "ou_dt: tensions change only at the updates (%ld in 60)", w->nupd);
+		ok(w->dmin >= h - 1e-12 && w->dmax < h + oc.dt_max + 1e-12,
+		   "ou_dt: updates are between ou_dt and ou_dt + dt apart");
+		double var = 0.5 * (w->sxx + w->syy) / w->n, rho = w->sxy / w->sxx;
+		double hm = 60.0 / w->nupd;   /* mean interval */
+		diag("variance %.5f (sigma^2 %.5f), one-update correlation %.5f (exp(-%.4f) %.5f)",
+		     var, sc * sc, rho, hm, exp(-hm));
+		/* ~60 tau x 108 junctions: ~6000 independent values */
+		is_near(var, sc * sc, 5 * sc * sc * sqrt(2.0 / 6000), "ou_dt: stationary variance sigma^2");
+		is_near(rho, exp(-hm), 0.02, "ou_dt: correlation over one update exp(-interval/tau)");
+		free(ww.prev);
+		dyn_free(dc);
+		mesh_free(mc);
+	}
 
 	ou_free(d1);
 	ou_free(d2);

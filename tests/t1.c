@@ -1,6 +1,8 @@
 /* T1 transitions: topology of one T1 on a honeycomb, its reverse, a T1
  * across the periodic box edge, refusal at triangles, and invariants after
- * 10^4 T1s in a noisy run.  "Valid" means: mesh_build on a copy accepts it
+ * 10^4 T1s in a noisy run, and dyn_run against a plain reference
+ * integrator (every length every step, as the paper's scheme reads) for
+ * bit-identical trajectories.  "Valid" means: mesh_build on a copy accepts it
  * (every invariant) and the in-place derived arrays give the same energy
  * and gradient as the freshly built ones. */
 #include <math.h>
@@ -10,6 +12,7 @@
 #include "dynamics.h"
 #include "geom.h"
 #include "lattice.h"
+#include "noise.h"
 #include "tap.h"
 #include "topology.h"
 
@@ -86,9 +89,100 @@ static int same_cells_swapped(const mesh *m, const mesh *o, int a, int b)
 	return 1;
 }
 
+static double len2(const mesh *m, int j)
+{
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+	double dx = m->r[2 * b] - m->r[2 * a] + m->jimg[2 * j];
+	double dy = m->r[2 * b + 1] - m->r[2 * a + 1] + m->jimg[2 * j + 1];
+	return dx * dx + dy * dy;
+}
+
+/* The paper's scheme written out plainly, as dyn_run did it before it
+ * learned to look only at junctions that can be short: every squared
+ * length every step, T1 on the shortest shrinking junction below the
+ * threshold (lowest index on ties) until none is left, the lengths at the
+ * moved vertices made current after each T1, OU tensions (exact step with
+ * every Euler step).  dyn_run must follow it bit for bit.  Returns the
+ * number of T1s, or -1 on an error. */
+static long ref_run(mesh *m, const model *p, const dyn_opts *o, ou_noise *g,
+                    double *lprev, int *have_lprev, double t0, double t_end)
+{
+	const int nj = m->nj, nv = m->nv;
+	energy_ws *ws = energy_ws_alloc(m);
+	double *f = malloc(2 * nv * sizeof *f), *l2 = malloc(nj * sizeof *l2);
+	const double thr = o->t1_length * o->t1_length;
+	long nt1 = 0;
+	double t = t0;
+	if (o->sigma > 0 && m->dg == NULL)
+		mesh_tension_alloc(m);
+#define LEN2(j) len2(m, j)
+	if (!*have_lprev) {
+		for (int j = 0; j < nj; j++)
+			lprev[j] = LEN2(j);
+		*have_lprev = 1;
+	}
+	while (t < t_end) {
+		for (int j = 0; j < nj; j++)
+			l2[j] = LEN2(j);
+		for (;;) {
+			int best = -1;
+			double lbest = thr;
+			for (int j = 0; j < nj; j++)
+				if (l2[j] < lbest && l2[j] < lprev[j]) {
+					best = j;
+					lbest = l2[j];
+				}
+			if (best < 0)
+				break;
+			int a = m->jv[2 * best], b = m->jv[2 * best + 1];
+			mesh_error e;
+			if (mesh_t1(m, best, o->t1_new, &e) != MESH_OK) {
+				lprev[best] = lbest;
+				continue;
+			}
+			nt1++;
+			for (int j = 0; j < nj; j++) {
+				l2[j] = LEN2(j);
+				int u = m->jv[2 * j], v = m->jv[2 * j + 1];
+				if (u == a || u == b || v == a || v == b)
+					lprev[j] = l2[j];
+			}
+		}
+#undef LEN2
+		mesh_energy_tension(m, m->r, p, m->dg, f, ws);
+		double f2 = 0;
+		for (int v = 0; v < nv; v++) {
+			double q = f[2 * v] * f[2 * v] + f[2 * v + 1] * f[2 * v + 1];
+			f2 = q > f2 ? q : f2;
+		}
+		if (!isfinite(f2)) {
+			nt1 = -1;
+			break;
+		}
+		double fmax = sqrt(f2), dt = o->dt_max;
+		if (fmax * dt > o->dr_max)
+			dt = o->dr_max / fmax;
+		int last = 0;
+		if (dt >= t_end - t) {
+			dt = t_end - t;
+			last = 1;
+		}
+		for (int i = 0; i < 2 * nv; i++)
+			m->r[i] -= dt * f[i];
+		if (m->dg)
+			ou_step(o->sigma > 0 ? g : NULL, m->dg, nj, NULL, dt, o->tau, o->sigma);
+		memcpy(lprev, l2, nj * sizeof *lprev);
+		t = last ? t_end : t + dt;
+	}
+	energy_ws_free(ws);
+	free(f);
+	free(l2);
+	return nt1;
+}
+
 int main(void)
 {
-	tap_plan(23);
+	tap_plan(28);
 	model p = { .p0 = 3.65, .ka = 100 };
 	mesh_error err;
 	mesh *m;
@@ -202,6 +296,56 @@ int main(void)
 	ok(allvalid, "all invariants held at %d checks along the run", checks);
 	side_hist(n, h);
 	ok(h[6] < n->nc, "the noisy tissue is disordered (f6 %.2f)", (double)h[6] / n->nc);
+
+	/* dyn_run against the plain reference: a noisy stage with many T1s,
+	 * then a quench (a second run: the candidate list is made again). */
+	mesh *ra = mesh_copy(orig), *rb = mesh_copy(orig);
+	dyn_opts_init(&o);
+	o.sigma = 0.5;
+	dyn *dz;
+	dyn_alloc(ra, &p, &o, 5, &dz, &err);
+	ou_noise *g = ou_alloc(5);
+	double *lprev = malloc(orig->nj * sizeof *lprev);
+	int have_lprev = 0, st1, st2;
+	long nref = ref_run(rb, &p, &o, g, lprev, &have_lprev, 0, 20);
+	st1 = dyn_run(dz, 20, NULL, NULL, NULL, &err);
+	o.sigma = 0;
+	dyn_options(dz)->sigma = 0;
+	long nref2 = ref_run(rb, &p, &o, g, lprev, &have_lprev, 20, 25);
+	st2 = dyn_run(dz, 25, NULL, NULL, NULL, &err);
+	dyn_counts_get(dz, &c);
+	diag("reference run: %ld + %ld T1s; dyn_run: %ld T1s, %ld steps", nref, nref2, c.nt1, c.nstep);
+	ok(st1 == MESH_OK && st2 == MESH_OK && nref > 200 && c.nt1 == nref + nref2,
+	   "dyn_run does the reference's T1s (%ld)", c.nt1);
+	ok(memcmp(ra->r, rb->r, 2 * ra->nv * sizeof *ra->r) == 0, "bit-identical vertex positions");
+	ok(memcmp(ra->coff, rb->coff, (ra->nc + 1) * sizeof *ra->coff) == 0 &&
+	   memcmp(ra->cv, rb->cv, ra->coff[ra->nc] * sizeof *ra->cv) == 0, "identical cells");
+	int dgsame = 1;
+	for (int k = 0; k < ra->nj; k++)
+		dgsame &= (ra->dg ? ra->dg[k] : 0) == (rb->dg ? rb->dg[k] : 0);
+	ok(dgsame, "identical tensions");
+	dyn_free(dz);
+	ou_free(g);
+	free(lprev);
+	mesh_free(ra);
+	mesh_free(rb);
+
+	/* mesh_t1_touch names exactly the junctions at the two vertices */
+	mesh *q = mesh_copy(orig);
+	int jq = 20, touched[5];
+	int qa = q->jv[2 * jq], qb = q->jv[2 * jq + 1];
+	int tst = mesh_t1_touch(q, jq, 1e-3, touched, &err);
+	int nat = 0, match = tst == MESH_OK;
+	for (int k = 0; k < q->nj; k++) {
+		int u = q->jv[2 * k], v = q->jv[2 * k + 1];
+		int at = u == qa || u == qb || v == qa || v == qb, listed = 0;
+		for (int e = 0; e < 5; e++)
+			listed += touched[e] == k;
+		nat += at;
+		match &= listed == at;
+	}
+	ok(match && nat == 5, "mesh_t1_touch lists the five junctions at a and b");
+	mesh_free(q);
 
 	dyn_free(dy);
 	mesh_free(n);

@@ -15,7 +15,7 @@
 static const char usage[] =
 	"[--sigma S | --stage SIGMA:DURATION ...] [--relax T] [--tau T] [--seed N]\n"
 	"       [--p0 X] [--ka Y] [--every T] [--log FILE] [--log-every T]\n"
-	"       [--dt DT] [--dr DR] [--t1 L] [--t1-new L] [FILE]";
+	"       [--dt DT] [--dr DR] [--ou-dt H] [--t1 L] [--t1-new L] [FILE]";
 static const char help[] =
 	"Overdamped vertex dynamics with Ornstein-Uhlenbeck noise on every junction\n"
 	"tension and T1 transitions, run as a protocol of stages.  The default is the\n"
@@ -34,6 +34,8 @@ static const char help[] =
 	"  --log-every T         log interval (default 1)\n"
 	"  --dt DT               longest time step (default 0.001)\n"
 	"  --dr DR               largest vertex move per step (default 0.001)\n"
+	"  --ou-dt H             update the tension noise exactly every H time units,\n"
+	"                        holding it in between (default 0: every step, the paper's)\n"
 	"  --t1 L                T1 threshold length (default 0.01, 0: no T1s)\n"
 	"  --t1-new L            length of a junction made by a T1 (default 0.001)\n"
 	"  -h, --help            this help\n"
@@ -76,7 +78,7 @@ static void parse_stage(struct opts *o, const char *arg)
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_SIGMA = 256, O_STAGE, O_RELAX, O_TAU, O_SEED, O_P0, O_KA, O_EVERY,
-	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_T1, O_T1NEW, O_VERSION };
+	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_T1, O_T1NEW, O_VERSION };
 	static const struct option lo[] = {
 		{ "sigma", required_argument, NULL, O_SIGMA },
 		{ "stage", required_argument, NULL, O_STAGE },
@@ -90,6 +92,7 @@ static struct opts parse(int argc, char **argv)
 		{ "log-every", required_argument, NULL, O_LOGEVERY },
 		{ "dt", required_argument, NULL, O_DT },
 		{ "dr", required_argument, NULL, O_DR },
+		{ "ou-dt", required_argument, NULL, O_OUDT },
 		{ "t1", required_argument, NULL, O_T1 },
 		{ "t1-new", required_argument, NULL, O_T1NEW },
 		{ "help", no_argument, NULL, 'h' },
@@ -113,6 +116,7 @@ static struct opts parse(int argc, char **argv)
 		case O_LOGEVERY: o.log_every = cli_double_range("--log-every", optarg, 1e-6, 1e9); break;
 		case O_DT: o.d.dt_max = cli_double_range("--dt", optarg, 1e-9, 1); break;
 		case O_DR: o.d.dr_max = cli_double_range("--dr", optarg, 1e-9, 0.1); break;
+		case O_OUDT: o.d.ou_dt = cli_double_range("--ou-dt", optarg, 0, 1e9); break;
 		case O_T1: o.d.t1_length = cli_double_range("--t1", optarg, 0, 0.5); break;
 		case O_T1NEW: o.d.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
 		case 'h': cli_help(help);
@@ -299,6 +303,8 @@ int main(int argc, char **argv)
 			o.tau, o.d.dt_max, o.d.dr_max, o.seed, c.t, c.nstep, c.nt1);
 	if (c.nt1_refused)
 		len += snprintf(note + len, sizeof note - len, ", %ld refused", c.nt1_refused);
+	if (o.d.ou_dt > 0)
+		len += snprintf(note + len, sizeof note - len, "; noise updated every %g", o.d.ou_dt);
 	if (!done)
 		snprintf(note + len, sizeof note - len, "; interrupted");
 	history_note(m, note);
