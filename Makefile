@@ -3,6 +3,7 @@
 #   make              libmesh/libmesh.a and the programs in bin/
 #   make check        every test through prove (SAN=1: with ASan and UBSan)
 #   make bench        benchmarks in bench/, results in bench/RESULTS.md
+#   make figures      figures/*.png (gnuplot): a1, a3 against p0, f(l) curves
 #   make demo         installs what is missing, builds, runs the default job
 #   make install      PREFIX=/usr/local DESTDIR=
 #
@@ -89,11 +90,16 @@ check: $(LIB) $(PROGS) $(UNITS)
 	TIS_BIN=$(CURDIR)/$(O)bin PATH="$(CURDIR)/$(O)bin:$$PATH" \
 	  prove -j2 $(UNITS) $(SHELL_TESTS)
 
+# figures.sh and the study it draws on (disorder-a1.sh, about half an hour)
+# are measurements of physics, not of speed: they run under `make figures`.
+STUDIES = bench/figures.sh bench/disorder-a1.sh
 bench: all
-	@for b in bench/*.sh; do [ -x "$$b" ] || continue; \
+	@for b in $(filter-out $(STUDIES),$(wildcard bench/*.sh)); do \
+	  [ -x "$$b" ] || continue; \
 	  echo "== $$b"; PATH="$(CURDIR)/bin:$$PATH" "$$b" || exit 1; done
 
 DEBS = libgsl-dev libnlopt-dev libcgal-dev g++ make
+FIGDEBS = gnuplot-nox
 deps:
 	@./.ci/deps $(DEBS)
 
@@ -106,6 +112,7 @@ samples: all
 	PATH="$(CURDIR)/bin:$$PATH" $(MAKE) -C samples
 
 figures: all
+	@./.ci/deps --quiet $(FIGDEBS)
 	PATH="$(CURDIR)/bin:$$PATH" ./bench/figures.sh
 
 install: all
