@@ -38,19 +38,6 @@ struct dyn {
 	dyn_counts c;
 };
 
-static int fail(mesh_error *err, int status, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-static int fail(mesh_error *err, int status, const char *fmt, ...)
-{
-	if (err) {
-		va_list ap;
-		err->line = 0;
-		va_start(ap, fmt);
-		vsnprintf(err->msg, sizeof err->msg, fmt, ap);
-		va_end(ap);
-	}
-	return status;
-}
 
 void dyn_opts_init(dyn_opts *o)
 {
@@ -62,17 +49,17 @@ void dyn_opts_init(dyn_opts *o)
 static int check_opts(const dyn_opts *o, mesh_error *err)
 {
 	if (!(o->dt_max > 0 && isfinite(o->dt_max)) || !(o->dr_max > 0 && isfinite(o->dr_max)))
-		return fail(err, MESH_EDOM, "time step and displacement limits must be positive");
+		return mesh_error_set(err, 0, MESH_EDOM, "time step and displacement limits must be positive");
 	if (!(o->t1_length >= 0 && isfinite(o->t1_length)) ||
 	    (o->t1_length > 0 && !(o->t1_new > 0 && isfinite(o->t1_new))))
-		return fail(err, MESH_EDOM, "bad T1 lengths");
+		return mesh_error_set(err, 0, MESH_EDOM, "bad T1 lengths");
 	if (!(o->l_stop >= 0 && isfinite(o->l_stop)))
-		return fail(err, MESH_EDOM, "l_stop must be non-negative");
+		return mesh_error_set(err, 0, MESH_EDOM, "l_stop must be non-negative");
 	if (!(o->ou_dt >= 0 && isfinite(o->ou_dt)))
-		return fail(err, MESH_EDOM, "ou_dt must be non-negative");
+		return mesh_error_set(err, 0, MESH_EDOM, "ou_dt must be non-negative");
 	if (!(o->tau > 0 && isfinite(o->tau)) || !(o->sigma >= 0 && isfinite(o->sigma)) ||
 	    !isfinite(o->gamma0))
-		return fail(err, MESH_EDOM, "tau must be positive, sigma non-negative");
+		return mesh_error_set(err, 0, MESH_EDOM, "tau must be positive, sigma non-negative");
 	return MESH_OK;
 }
 
@@ -85,7 +72,7 @@ int dyn_alloc(mesh *m, const model *p, const dyn_opts *o, unsigned long seed,
 		return st;
 	dyn *d = calloc(1, sizeof *d);
 	if (d == NULL)
-		return fail(err, MESH_ENOMEM, "out of memory");
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	size_t nj = m->nj ? (size_t)m->nj : 1;
 	d->m = m;
 	d->p = *p;
@@ -102,7 +89,7 @@ int dyn_alloc(mesh *m, const model *p, const dyn_opts *o, unsigned long seed,
 	if (!d->ws || !d->f || !d->jd || !d->lprev || !d->l2 || !d->ldot || !d->cand ||
 	    !d->incand) {
 		dyn_free(d);
-		return fail(err, MESH_ENOMEM, "out of memory");
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	}
 	*out = d;
 	return MESH_OK;
@@ -274,7 +261,7 @@ static int do_t1s(dyn *d, mesh_error *err)
 		int touched[5];
 		int st = mesh_t1_touch(m, best, d->o.t1_new, touched, &e2);
 		if (st == MESH_ENOMEM)
-			return fail(err, st, "out of memory");
+			return mesh_error_set(err, 0, st, "out of memory");
 		if (st != MESH_OK) {
 			/* not allowed: try again only if it keeps shrinking */
 			d->c.nt1_refused++;
@@ -341,9 +328,9 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 	const int feedback = o.mode == DYN_FEEDBACK;
 	const int t1on = o.t1_length > 0;
 	if ((o.sigma > 0 || feedback) && m->dg == NULL && mesh_tension_alloc(m) != MESH_OK)
-		return fail(err, MESH_ENOMEM, "out of memory");
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	if (o.sigma > 0 && d->noise == NULL && (d->noise = ou_alloc(d->seed)) == NULL)
-		return fail(err, MESH_ENOMEM, "out of memory");
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	double *restrict f = d->f, *restrict jd = d->jd, *restrict r = m->r;
 	const double thr2 = o.t1_length * o.t1_length;
 	d->have_dprev = 0;
@@ -369,9 +356,9 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				}
 			}
 			if (!(lmin > 1e-24))
-				return fail(err, MESH_EDOM, "a junction collapsed to zero length at t = %.6g", d->c.t);
+				return mesh_error_set(err, 0, MESH_EDOM, "a junction collapsed to zero length at t = %.6g", d->c.t);
 		} else if (collapsing(d, o.l_stop)) {
-			return fail(err, MESH_EDOM, "a junction collapsed (shorter than %g or turned "
+			return mesh_error_set(err, 0, MESH_EDOM, "a junction collapsed (shorter than %g or turned "
 				    "over) at t = %.6g with T1s off", o.l_stop, d->c.t);
 		}
 		double *dg = m->dg;
@@ -383,7 +370,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			f2 = q > f2 ? q : f2;
 		}
 		if (!isfinite(f2))
-			return fail(err, MESH_EDOM, "forces became non-finite at t = %.6g", d->c.t);
+			return mesh_error_set(err, 0, MESH_EDOM, "forces became non-finite at t = %.6g", d->c.t);
 		double fmax = sqrt(f2);
 		double dt = o.dt_max;
 		if (fmax * dt > o.dr_max)

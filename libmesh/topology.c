@@ -8,19 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int fail(mesh_error *err, int status, const char *fmt, ...)
-	__attribute__((format(printf, 3, 4)));
-static int fail(mesh_error *err, int status, const char *fmt, ...)
-{
-	if (err) {
-		va_list ap;
-		err->line = 0;
-		va_start(ap, fmt);
-		vsnprintf(err->msg, sizeof err->msg, fmt, ap);
-		va_end(ap);
-	}
-	return status;
-}
 
 /* Corner of cell k at vertex v, or -1. */
 static int corner_of(const mesh *m, int k, int v)
@@ -58,19 +45,19 @@ static double min_image(double dx, double l)
 int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 {
 	if (j < 0 || j >= m->nj)
-		return fail(err, MESH_EDOM, "t1: junction %d out of range 0..%d", j, m->nj - 1);
+		return mesh_error_set(err, 0, MESH_EDOM, "t1: junction %d out of range 0..%d", j, m->nj - 1);
 	if (!(lnew > 0) || !isfinite(lnew))
-		return fail(err, MESH_EDOM, "t1: new length must be positive");
+		return mesh_error_set(err, 0, MESH_EDOM, "t1: new length must be positive");
 	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
 	int L = m->jc[2 * j], R = m->jc[2 * j + 1];
 	if (m->coff[L + 1] - m->coff[L] <= 3 || m->coff[R + 1] - m->coff[R] <= 3)
-		return fail(err, MESH_EDOM, "t1 on junction %d-%d would leave a cell with fewer than 3 sides", a, b);
+		return mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d would leave a cell with fewer than 3 sides", a, b);
 
 	/* L runs p a b q, R runs s b a t. */
 	int iaL = corner_of(m, L, a), ibR = corner_of(m, R, b);
 	if (iaL < 0 || ibR < 0 || m->cv[next_corner(m, L, iaL)] != b ||
 	    m->cv[next_corner(m, R, ibR)] != a)
-		return fail(err, MESH_EDOM, "t1: junction %d-%d is not consistent with its cells", a, b);
+		return mesh_error_set(err, 0, MESH_EDOM, "t1: junction %d-%d is not consistent with its cells", a, b);
 	int ibL = next_corner(m, L, iaL), iaR = next_corner(m, R, ibR);
 	int q = m->cv[next_corner(m, L, ibL)];
 	int t = m->cv[next_corner(m, R, iaR)];
@@ -80,15 +67,15 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 	int jbq = m->cj[ibL], jsb = m->cj[prev_corner(m, R, ibR)];
 	int Ca = other_cell(m, jpa, L), Cb = other_cell(m, jbq, L);
 	if (other_cell(m, jat, R) != Ca || other_cell(m, jsb, R) != Cb)
-		return fail(err, MESH_EDOM, "t1 on junction %d-%d: both vertices must be three-fold", a, b);
+		return mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d: both vertices must be three-fold", a, b);
 	if (Ca == Cb || Ca == L || Ca == R || Cb == L || Cb == R || L == R)
-		return fail(err, MESH_EDOM, "t1 on junction %d-%d: the four cells around it are not distinct", a, b);
+		return mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d: the four cells around it are not distinct", a, b);
 	int ita = corner_of(m, Ca, t), iqb = corner_of(m, Cb, q);
 	if (ita < 0 || iqb < 0 || m->cv[next_corner(m, Ca, ita)] != a ||
 	    m->cv[next_corner(m, Cb, iqb)] != b)
-		return fail(err, MESH_EDOM, "t1 on junction %d-%d: unexpected neighbourhood", a, b);
+		return mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d: unexpected neighbourhood", a, b);
 	if (corner_of(m, Ca, b) >= 0 || corner_of(m, Cb, a) >= 0)
-		return fail(err, MESH_EDOM, "t1 on junction %d-%d: a cell would visit a vertex twice", a, b);
+		return mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d: a cell would visit a vertex twice", a, b);
 
 	/* Rotate about the minimum-image midpoint; a goes to L's side. */
 	double d[2];
@@ -118,7 +105,7 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 	size_t len = (size_t)(m->coff[kmax + 1] - base) + 1, ncell = (size_t)(kmax - kmin) + 2;
 	double *ncimg = malloc(2 * len * sizeof *ncimg + (2 * len + ncell) * sizeof(int));
 	if (ncimg == NULL)
-		return fail(err, MESH_ENOMEM, "out of memory");
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	int *ncv = (int *)(ncimg + 2 * len), *ncj = ncv + len, *ncoff = ncj + len;
 
 	/* The five junctions at a and b after the T1: a-t is b-t, b-q is a-q. */
@@ -209,7 +196,7 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 						found = m->cj[c];
 				if (found < 0 || !((m->jv[2 * found] == u && m->jv[2 * found + 1] == v) ||
 						   (m->jv[2 * found] == v && m->jv[2 * found + 1] == u))) {
-					st = fail(err, MESH_EDOM, "t1 on junction %d-%d: lost edge %d-%d", a, b, u, v);
+					st = mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d: lost edge %d-%d", a, b, u, v);
 					break;
 				}
 				sg = m->jv[2 * found] == u ? 1 : -1;
@@ -223,7 +210,7 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 		if (st != MESH_OK)
 			break;
 		if (ox != 0 || oy != 0) {
-			st = fail(err, MESH_EDOM, "t1 on junction %d-%d: cell %d would wrap around the box", a, b, k);
+			st = mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d: cell %d would wrap around the box", a, b, k);
 			break;
 		}
 		/* shoelace on the unwrapped polygon */
@@ -244,7 +231,7 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 			py = vy - y0;
 		}
 		if (!(area > 0)) {
-			st = fail(err, MESH_EDOM, "t1 on junction %d-%d: cell %d would get area %.3g", a, b, k, 0.5 * area);
+			st = mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d: cell %d would get area %.3g", a, b, k, 0.5 * area);
 			break;
 		}
 	}
