@@ -2,7 +2,6 @@
 #include "dynamics.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 

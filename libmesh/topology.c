@@ -4,7 +4,6 @@
 #include "geom.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
