@@ -60,7 +60,7 @@ static struct opts parse(int argc, char **argv)
 	int c;
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
 		switch (c) {
-		case O_DEG: o.degree = (int)cli_long("--degree", optarg, 0, FIT_MAXDEG); break;
+		case O_DEG: o.degree = (int)cli_long("--degree", optarg, 1, FIT_MAXDEG); break;
 		case O_WIN: o.window = cli_double_range("--window", optarg, 0, 1e6); break;
 		case O_BRANCH:
 			if (strcmp(optarg, "out") == 0)

@@ -299,9 +299,10 @@ int main(int argc, char **argv)
 	mesh *m;
 	int nmesh = 0, badpoints = 0, allpoints = 0;
 	double worst = 0;
-	print_header(o.linear);
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
-		nmesh++;
+		/* the header waits for a valid mesh: bad input leaves no output */
+		if (nmesh++ == 0)
+			print_header(o.linear);
 		model p = model_from_mesh(m);
 		if (o.has_p0)
 			p.p0 = o.p0;
