@@ -152,20 +152,11 @@ double dyn_energy(dyn *d)
  * length. */
 static double lengths(dyn *d)
 {
-	const mesh *m = d->m;
-	const double *r = m->r;
+	mesh_junction_vectors(d->m, d->m->r, d->jd);
 	double lmin = INFINITY;
-	for (int j = 0; j < m->nj; j++) {
-		int a = m->jv[2 * j], b = m->jv[2 * j + 1];
-		double dx = r[2 * b] - r[2 * a] + m->jimg[2 * j];
-		double dy = r[2 * b + 1] - r[2 * a + 1] + m->jimg[2 * j + 1];
-		double l = sqrt(dx * dx + dy * dy);
-		d->jd[3 * j] = dx;
-		d->jd[3 * j + 1] = dy;
-		d->jd[3 * j + 2] = l;
-		if (l < lmin)
-			lmin = l;
-	}
+	for (int j = 0; j < d->m->nj; j++)
+		if (d->jd[3 * j + 2] < lmin)
+			lmin = d->jd[3 * j + 2];
 	return lmin;
 }
 

@@ -95,15 +95,11 @@ double mesh_energy(const mesh *m, const double *r, const model *p,
 	return mesh_energy_tension(m, r, p, NULL, grad, w);
 }
 
-double mesh_energy_tension(const mesh *m, const double *r, const model *p,
-                           const double *dg, double *grad, energy_ws *w)
+void mesh_junction_vectors(const mesh *m, const double *r, double *jd)
 {
-	const int nj = m->nj, nc = m->nc;
+	const int nj = m->nj;
 	const int *restrict jv = m->jv;
 	const double *restrict jimg = m->jimg;
-	double *restrict jd = w->jd;
-	double *restrict cc = w->cc;
-
 	for (int j = 0; j < nj; j++) {
 		int a = jv[2 * j], b = jv[2 * j + 1];
 		double dx = r[2 * b] - r[2 * a] + jimg[2 * j];
@@ -112,7 +108,12 @@ double mesh_energy_tension(const mesh *m, const double *r, const model *p,
 		jd[3 * j + 1] = dy;
 		jd[3 * j + 2] = sqrt(dx * dx + dy * dy);
 	}
+}
 
+double mesh_cell_factors(const mesh *m, const double *r, const model *p,
+                         const double *jd, double *cc)
+{
+	const int nc = m->nc;
 	const int *restrict coff = m->coff, *restrict cv = m->cv, *restrict cj = m->cj;
 	const double *restrict cimg = m->cimg;
 	const double ka = p->ka, p0 = p->p0;
@@ -135,6 +136,19 @@ double mesh_energy_tension(const mesh *m, const double *r, const model *p,
 		cc[2 * k] = 2 * ka * da;
 		cc[2 * k + 1] = 2 * dp;
 	}
+	return W;
+}
+
+double mesh_energy_tension(const mesh *m, const double *r, const model *p,
+                           const double *dg, double *grad, energy_ws *w)
+{
+	const int nj = m->nj;
+	const int *restrict jv = m->jv;
+	double *restrict jd = w->jd;
+	double *restrict cc = w->cc;
+
+	mesh_junction_vectors(m, r, jd);
+	double W = mesh_cell_factors(m, r, p, jd, cc);
 	if (grad == NULL)
 		return W;
 

@@ -29,6 +29,14 @@ double junction_length(const mesh *m, const double *r, int j);
 double cell_area(const mesh *m, const double *r, int k);
 double cell_perimeter(const mesh *m, const double *r, int k);
 
+/* The first two passes of the energy, for code that builds on them (the
+ * Hessian, the dynamics): junction vectors and lengths, jd[3j..3j+2] = dx,
+ * dy, l by minimum image; then, from jd, each cell's dW/dA = 2 ka (A - 1)
+ * and dW/dP = 2 (P - p0) into cc[2k], cc[2k+1], returning W. */
+void mesh_junction_vectors(const mesh *m, const double *r, double *jd);
+double mesh_cell_factors(const mesh *m, const double *r, const model *p,
+                         const double *jd, double *cc);
+
 /* Scratch space for energy evaluation, sized for one mesh's counts (a T1
  * keeps them, so it stays valid across topology changes). */
 typedef struct energy_ws energy_ws;

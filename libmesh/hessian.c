@@ -49,36 +49,13 @@ void mesh_hessvec(const mesh *m, const double *r, const model *p,
 {
 	const int nj = m->nj, nc = m->nc;
 	const int *jv = m->jv, *jc = m->jc;
-	const double *jimg = m->jimg;
+	const double ka = p->ka;
 	double *jd = w->jd, *cc = w->cc, *dc = w->dc;
 
-	for (int j = 0; j < nj; j++) {
-		int a = jv[2 * j], b = jv[2 * j + 1];
-		double dx = r[2 * b] - r[2 * a] + jimg[2 * j];
-		double dy = r[2 * b + 1] - r[2 * a + 1] + jimg[2 * j + 1];
-		jd[3 * j] = dx;
-		jd[3 * j + 1] = dy;
-		jd[3 * j + 2] = sqrt(dx * dx + dy * dy);
-	}
-	const int *coff = m->coff, *cv = m->cv, *cj = m->cj;
-	const double *cimg = m->cimg;
-	const double ka = p->ka, p0 = p->p0;
-	for (int k = 0; k < nc; k++) {
-		int s = coff[k], e = coff[k + 1];
-		double x0 = r[2 * cv[s]], y0 = r[2 * cv[s] + 1];
-		double a = 0, per = jd[3 * cj[s] + 2], px = 0, py = 0;
-		for (int i = s + 1; i < e; i++) {
-			double qx = r[2 * cv[i]] + cimg[2 * i] - x0;
-			double qy = r[2 * cv[i] + 1] + cimg[2 * i + 1] - y0;
-			a += px * qy - py * qx;
-			per += jd[3 * cj[i] + 2];
-			px = qx;
-			py = qy;
-		}
-		cc[2 * k] = 2 * ka * (0.5 * a - 1);
-		cc[2 * k + 1] = 2 * (per - p0);
+	mesh_junction_vectors(m, r, jd);
+	mesh_cell_factors(m, r, p, jd, cc);
+	for (int k = 0; k < nc; k++)
 		dc[2 * k] = dc[2 * k + 1] = 0;
-	}
 	for (int j = 0; j < nj; j++) {
 		int a = jv[2 * j], b = jv[2 * j + 1];
 		int L = jc[2 * j], R = jc[2 * j + 1];
