@@ -7,8 +7,9 @@
  *
  *   dg <- dg e^{-dt/tau} + sigma sqrt(1 - e^{-2 dt/tau}) N(0,1)
  *
- * The generator is MT19937 with GSL's ziggurat Gaussians: the same seed
- * gives the same numbers on every machine.  With sigma = 0 no random
+ * The generator is GSL's taus2 (L'Ecuyer's maximally equidistributed
+ * combined Tausworthe generator, period 2^88) with GSL's ziggurat
+ * Gaussians: the same seed gives the same numbers on every machine.  With sigma = 0 no random
  * numbers are drawn (the tensions only decay), so a sigma = 0 stage does
  * not shift the stream of a later noisy one.
  */
