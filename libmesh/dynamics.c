@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "minimize.h"
 #include "noise.h"
 #include "topology.h"
 
@@ -42,7 +43,7 @@ void dyn_opts_init(dyn_opts *o)
 {
 	*o = (dyn_opts){ .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0.01,
 			 .t1_new = 1e-3, .tau = 1, .sigma = 0, .mode = DYN_OU,
-			 .gamma0 = 0, .l_stop = 1e-6, .ou_dt = 0 };
+			 .gamma0 = 0, .l_stop = 1e-6, .ou_dt = 0, .settle = 0 };
 }
 
 static int check_opts(const dyn_opts *o, mesh_error *err)
@@ -56,6 +57,8 @@ static int check_opts(const dyn_opts *o, mesh_error *err)
 		return mesh_error_set(err, 0, MESH_EDOM, "l_stop must be non-negative");
 	if (!(o->ou_dt >= 0 && isfinite(o->ou_dt)))
 		return mesh_error_set(err, 0, MESH_EDOM, "ou_dt must be non-negative");
+	if (!(o->settle >= 0 && isfinite(o->settle)))
+		return mesh_error_set(err, 0, MESH_EDOM, "settle must be non-negative");
 	if (!(o->tau > 0 && isfinite(o->tau)) || !(o->sigma >= 0 && isfinite(o->sigma)) ||
 	    !isfinite(o->gamma0))
 		return mesh_error_set(err, 0, MESH_EDOM, "tau must be positive, sigma non-negative");
@@ -306,6 +309,56 @@ static int any_tension(const mesh *m)
 	return 0;
 }
 
+/* Every tension at most lim in magnitude. */
+static int tensions_below(const mesh *m, double lim)
+{
+	if (m->dg)
+		for (int j = 0; j < m->nj; j++)
+			if (!(fabs(m->dg[j]) <= lim))
+				return 0;
+	return 1;
+}
+
+/* Minimize at fixed topology and jump to t_end (see dynamics.h): 1 if the
+ * jump was taken, 0 if not (m untouched: the minimizer works on a copy,
+ * because it wraps the coordinates), MESH_ENOMEM as -1. */
+static int settle(dyn *d, double t_end, double lshort)
+{
+	mesh *m = d->m;
+	mesh *c = mesh_copy(m);
+	if (c == NULL)
+		return -1;
+	min_opts mo;
+	min_opts_init(&mo);
+	int st = mesh_relax(c, &d->p, &mo, NULL);
+	double lmin = INFINITY;
+	for (int j = 0; j < c->nj; j++) {
+		double l = junction_length(c, c->r, j);
+		lmin = l < lmin ? l : lmin;
+	}
+	if (st != MESH_OK || !(lmin > lshort)) {
+		mesh_free(c);
+		return st == MESH_ENOMEM ? -1 : 0;
+	}
+	size_t nk = (size_t)m->coff[m->nc];
+	memcpy(m->r, c->r, 2 * (size_t)m->nv * sizeof *m->r);
+	memcpy(m->jimg, c->jimg, 2 * (size_t)m->nj * sizeof *m->jimg);
+	memcpy(m->cimg, c->cimg, 2 * nk * sizeof *m->cimg);
+	mesh_free(c);
+	/* the minimum is that of W alone: the tensions (at most settle, and
+	 * decaying) are dropped, as stepping drops them once they decay */
+	free(m->dg);
+	m->dg = NULL;
+	d->c.nsettle++;
+	d->c.t_settled += t_end - d->c.t;
+	d->c.t = t_end;
+	/* the vertices jumped: no shrink history, fresh candidates */
+	d->have_lprev = 0;
+	d->have_dprev = 0;
+	d->cand_ok = 0;
+	return 1;
+}
+
 int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
             dyn_observer obs, void *data, mesh_error *err)
 {
@@ -327,6 +380,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 	/* the options may have changed since the last run */
 	d->margin = 20 * o.dr_max;
 	d->cand_ok = 0;
+	double fsettle = o.sigma == 0 && !feedback ? o.settle : 0;
 
 	while (d->c.t < t_end && !(stop && *stop)) {
 		if (t1on) {
@@ -362,6 +416,17 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		if (!isfinite(f2))
 			return mesh_error_set(err, 0, MESH_EDOM, "forces became non-finite at t = %.6g", d->c.t);
 		double fmax = sqrt(f2);
+		if (fmax <= fsettle && tensions_below(m, fsettle)) {
+			int done = settle(d, t_end, t1on ? o.t1_length : o.l_stop);
+			if (done < 0)
+				return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+			if (done) {
+				if (obs)
+					obs(d, data);
+				break;
+			}
+			fsettle *= 0.01;
+		}
 		double dt = o.dt_max;
 		if (fmax * dt > o.dr_max)
 			dt = o.dr_max / fmax;

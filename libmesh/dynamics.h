@@ -28,6 +28,19 @@
  * have moved far enough (steps move no vertex further than dr_max).  If
  * t1_length changes between runs, a junction that was far above the old
  * threshold counts as shrinking at the first step of the next run.
+ *
+ * Settling (settle > 0): without noise and feedback the dynamics is a
+ * gradient flow that ends in a local minimum; once it is nearly there,
+ * stepping on to t_end only creeps (the force decays as exp(-lambda t)
+ * with lambda ~ 0.01 for the softest mode of a quenched tissue, so
+ * reaching 1e-10 takes ~1000 time units).  When the largest vertex force
+ * and every tension are at most settle and no junction is shorter than
+ * the T1 threshold (or l_stop with T1s off), the run minimizes the energy
+ * at fixed topology (mesh_relax, Newton), drops the tensions (their
+ * state is freed, as when they decay to 0) and jumps to t_end.  The jump is
+ * taken only if the minimizer converged and left every junction longer
+ * than that threshold; otherwise stepping goes on and settling is tried
+ * again at a 100 times smaller force.
  */
 #ifndef TIS_DYNAMICS_H
 #define TIS_DYNAMICS_H
@@ -61,6 +74,10 @@ typedef struct {
 	                      constant in between: far fewer random numbers, the
 	                      OU statistics exact at the update times, an error
 	                      of order ou_dt/tau in the forces between them */
+	double settle;     /* 0 (default): step every time unit.  > 0: in a
+	                      stage without noise or feedback, finish at the
+	                      minimum once max force and tension <= settle
+	                      (above) */
 } dyn_opts;
 
 void dyn_opts_init(dyn_opts *o);
@@ -70,6 +87,8 @@ typedef struct {
 	long nstep;        /* Euler steps (= force evaluations) */
 	long nt1;          /* T1s done */
 	long nt1_refused;  /* T1s not allowed */
+	long nsettle;      /* runs finished by settling */
+	double t_settled;  /* time covered by settling instead of steps */
 } dyn_counts;
 
 typedef struct dyn dyn;

@@ -3,7 +3,7 @@
 # signals.  Short runs on a 6x6 tissue.
 . "$(dirname "$0")/lib.sh"
 
-plan 33
+plan 39
 
 # a mesh is valid when tis-anneal reads it back (mesh_build checks every
 # invariant) through a zero-length run
@@ -23,6 +23,8 @@ fails_with 2 "--sigma together with --stage" tis-anneal --sigma 0.2 --stage 0.5:
 fails_with 2 "--dt 0" tis-anneal --dt 0 "$T/hex.mesh"
 fails_with 2 "--ou-dt negative" tis-anneal --ou-dt -0.01 "$T/hex.mesh"
 fails_with 2 "--ou-dt nan" tis-anneal --ou-dt nan "$T/hex.mesh"
+fails_with 2 "--settle negative" tis-anneal --settle -1 "$T/hex.mesh"
+fails_with 2 "--settle nan" tis-anneal --settle nan "$T/hex.mesh"
 fails_with 2 "--seed not an integer" tis-anneal --seed 1.5 "$T/hex.mesh"
 fails_with 1 "missing input file" tis-anneal "$T/nonexistent.mesh"
 printf 'tismesh 1\nbox 1 1\nvertices 3\n0 0\n' >"$T/bad.mesh"
@@ -54,6 +56,21 @@ ok "--ou-dt 0.01: the same seed gives the same bytes, a valid mesh" \
 	sh -c "cmp -s '$T/o1.mesh' '$T/o2.mesh' && tis-anneal --stage 0:0 --relax 0 '$T/o1.mesh' >/dev/null"
 ok "--ou-dt 0.01: another trajectory, and the history line says so" \
 	sh -c "grep -v '^history' '$T/o1.mesh' >'$T/h3'; ! cmp -s '$T/h1' '$T/h3' && grep -q 'noise updated every 0.01' '$T/o1.mesh'"
+
+# settling: a quiet stage ends by minimization once the forces are below
+# --settle, at the minimum that stepping through the stage reaches
+tis-anneal --stage 0.5:3 --stage 0:300 --relax 0 --seed 2 "$T/hex.mesh" >"$T/s1.mesh"
+tis-anneal --stage 0.5:3 --stage 0:300 --relax 0 --seed 2 --settle 0 "$T/hex.mesh" >"$T/s0.mesh"
+ok "settling is said in the history line, with the time it covered" \
+	grep -Eq '# .*; 1 stages ended by Newton minimization at fixed topology once max force and tension <= 0.0001, covering [0-9.]+ time units' "$T/s1.mesh"
+ok "--settle 0 steps through (no settling in the history line)" sh -c "! grep -q 'Newton minimization' '$T/s0.mesh'"
+# (stepping leaves tensions of ~1e-131 after 300 time units; settling drops them)
+cells() { awk '/^cells/ { c = 1 } /^(junctions|end)/ { c = 0 } c' "$1"; }
+cells "$T/s1.mesh" >"$T/sc1"; cells "$T/s0.mesh" >"$T/sc0"
+ok "settled and stepped: the same cells" cmp -s "$T/sc1" "$T/sc0"
+sed -n '/^vertices/,/^cells/p' "$T/s1.mesh" >"$T/sv1"; sed -n '/^vertices/,/^cells/p' "$T/s0.mesh" >"$T/sv0"
+ok "settled and stepped: the same vertices to 1e-8 (box edges aside)" sh -c "paste '$T/sv1' '$T/sv0' | awk 'NF == 4 {
+	d = \$1 - \$3; e = \$2 - \$4; if (d * d + e * e > 1e-16 && d * d + e * e < 1) exit 1 }'"
 
 # sigma 0 on a honeycomb: force-free, nothing happens, no tension state
 tis-anneal --stage 0:3 --relax 0 --p0 3.65 "$T/hex.mesh" >"$T/z.mesh"

@@ -12,10 +12,16 @@
 #include "dynamics.h"
 #include "geom.h"
 
+/* bench/RESULTS.md: the largest force at which settling gives the same
+ * topology and coordinates as stepping to the end */
+#define SETTLE_DEFAULT 1e-4
+#define STR_(x) #x
+#define STR(x) STR_(x)
+
 static const char usage[] =
 	"[--sigma S | --stage SIGMA:DURATION ...] [--relax T] [--tau T] [--seed N]\n"
 	"       [--p0 X] [--ka Y] [--every T] [--log FILE] [--log-every T]\n"
-	"       [--dt DT] [--dr DR] [--ou-dt H] [--t1 L] [--t1-new L] [FILE]";
+	"       [--dt DT] [--dr DR] [--ou-dt H] [--settle F] [--t1 L] [--t1-new L] [FILE]";
 static const char help[] =
 	"Overdamped vertex dynamics with Ornstein-Uhlenbeck noise on every junction\n"
 	"tension and T1 transitions, run as a protocol of stages.  The default is the\n"
@@ -36,6 +42,9 @@ static const char help[] =
 	"  --dr DR               largest vertex move per step (default 0.001)\n"
 	"  --ou-dt H             update the tension noise exactly every H time units,\n"
 	"                        holding it in between (default 0: every step, the paper's)\n"
+	"  --settle F            in a stage without noise, once max force and tension\n"
+	"                        are <= F, minimize and skip to the stage's end\n"
+	"                        (default " STR(SETTLE_DEFAULT) "; 0: step to the end)\n"
 	"  --t1 L                T1 threshold length (default 0.01, 0: no T1s)\n"
 	"  --t1-new L            length of a junction made by a T1 (default 0.001)\n"
 	"  -h, --help            this help\n"
@@ -78,7 +87,7 @@ static void parse_stage(struct opts *o, const char *arg)
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_SIGMA = 256, O_STAGE, O_RELAX, O_TAU, O_SEED, O_P0, O_KA, O_EVERY,
-	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_T1, O_T1NEW, O_VERSION };
+	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_SETTLE, O_T1, O_T1NEW, O_VERSION };
 	static const struct option lo[] = {
 		{ "sigma", required_argument, NULL, O_SIGMA },
 		{ "stage", required_argument, NULL, O_STAGE },
@@ -93,6 +102,7 @@ static struct opts parse(int argc, char **argv)
 		{ "dt", required_argument, NULL, O_DT },
 		{ "dr", required_argument, NULL, O_DR },
 		{ "ou-dt", required_argument, NULL, O_OUDT },
+		{ "settle", required_argument, NULL, O_SETTLE },
 		{ "t1", required_argument, NULL, O_T1 },
 		{ "t1-new", required_argument, NULL, O_T1NEW },
 		{ "help", no_argument, NULL, 'h' },
@@ -101,6 +111,7 @@ static struct opts parse(int argc, char **argv)
 	};
 	struct opts o = { .relax = 1000, .tau = 1, .seed = 1, .log_every = 1 };
 	dyn_opts_init(&o.d);
+	o.d.settle = SETTLE_DEFAULT;
 	int c;
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
 		switch (c) {
@@ -117,6 +128,7 @@ static struct opts parse(int argc, char **argv)
 		case O_DT: o.d.dt_max = cli_double_range("--dt", optarg, 1e-9, 1); break;
 		case O_DR: o.d.dr_max = cli_double_range("--dr", optarg, 1e-9, 0.1); break;
 		case O_OUDT: o.d.ou_dt = cli_double_range("--ou-dt", optarg, 0, 1e9); break;
+		case O_SETTLE: o.d.settle = cli_double_range("--settle", optarg, 0, 1e6); break;
 		case O_T1: o.d.t1_length = cli_double_range("--t1", optarg, 0, 0.5); break;
 		case O_T1NEW: o.d.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
 		case 'h': cli_help(help);
@@ -305,6 +317,10 @@ int main(int argc, char **argv)
 		len += snprintf(note + len, sizeof note - len, ", %ld refused", c.nt1_refused);
 	if (o.d.ou_dt > 0)
 		len += snprintf(note + len, sizeof note - len, "; noise updated every %g", o.d.ou_dt);
+	if (c.nsettle > 0)
+		len += snprintf(note + len, sizeof note - len, "; %ld stages ended by Newton "
+				"minimization at fixed topology once max force and tension <= %g, "
+				"covering %.10g time units", c.nsettle, o.d.settle, c.t_settled);
 	if (!done)
 		snprintf(note + len, sizeof note - len, "; interrupted");
 	history_note(m, note);
