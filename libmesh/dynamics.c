@@ -8,6 +8,10 @@
 #include "minimize.h"
 #include "noise.h"
 #include "topology.h"
+#include "vec2.h"
+
+/* Renumber the cells after this many T1s per cell (bench/RESULTS.md). */
+#define SORT_T1S 1
 
 struct dyn {
 	mesh *m;
@@ -33,6 +37,7 @@ struct dyn {
 	int cand_ok;          /* cand is valid for the current options */
 	double margin, disp;
 	double ou_acc;        /* time since the last OU update (ou_dt > 0) */
+	long nt1_sorted;      /* T1s since the cells were last renumbered */
 	int have_lprev;
 	int have_dprev;       /* jd holds the last step's vectors (T1s off) */
 	dyn_counts c;
@@ -393,6 +398,14 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			if (lmin < thr2) {
 				if ((st = do_t1s(d, err)) != MESH_OK)
 					return st;
+				/* T1s scatter neighbouring cells over the cell
+				 * table, and a T1's cost grows with the spread;
+				 * renumbering costs about as much as 10 T1s */
+				if (d->c.nt1 - d->nt1_sorted >= SORT_T1S * (long)m->nc) {
+					if (mesh_sort_cells(m) != MESH_OK)
+						return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+					d->nt1_sorted = d->c.nt1;
+				}
 				lmin = INFINITY;
 				for (int k = 0; k < d->ncand; k++) {
 					double q = d->l2[d->cand[k]];
@@ -408,10 +421,11 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		double *dg = m->dg;
 		/* f is the gradient of W + sum dg l: the force with its sign flipped */
 		mesh_energy_tension(m, r, &d->p, dg, f, d->ws);
+		const v2d *fv = (const v2d *)f;
 		double f2 = 0;
 		for (int v = 0; v < nv; v++) {
-			double q = f[2 * v] * f[2 * v] + f[2 * v + 1] * f[2 * v + 1];
-			f2 = q > f2 ? q : f2;
+			v2d q = fv[v] * fv[v];
+			f2 = q[0] + q[1] > f2 ? q[0] + q[1] : f2;
 		}
 		if (!isfinite(f2))
 			return mesh_error_set(err, 0, MESH_EDOM, "forces became non-finite at t = %.6g", d->c.t);
@@ -450,8 +464,9 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				d->ldot[j] = -dt * (o.gamma0 + dg[j]) * ldot / l;
 			}
 		}
-		for (int i = 0; i < 2 * nv; i++)
-			r[i] -= dt * f[i];
+		v2d *rv = (v2d *)r;
+		for (int v = 0; v < nv; v++)
+			rv[v] -= dt * fv[v];
 		d->disp += dt * fmax;
 		if (dg) {
 			if (o.ou_dt == 0) {

@@ -28,6 +28,8 @@
  * have moved far enough (steps move no vertex further than dr_max).  If
  * t1_length changes between runs, a junction that was far above the old
  * threshold counts as shrinking at the first step of the next run.
+ * After every nc T1s the cells are renumbered (mesh_sort_cells), which
+ * keeps T1s cheap; vertex and junction numbers never change.
  *
  * Settling (settle > 0): without noise and feedback the dynamics is a
  * gradient flow that ends in a local minimum; once it is nearly there,

@@ -1,5 +1,6 @@
 /* geom.c - periodic geometry, energy, gradient, statistics. */
 #include "geom.h"
+#include "vec2.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -95,18 +96,6 @@ double mesh_energy(const mesh *m, const double *r, const model *p,
 	return mesh_energy_tension(m, r, p, NULL, grad, w);
 }
 
-/* Coordinates are (x, y) pairs: GCC's vector extension does each pair's
- * arithmetic in one SSE2 instruction (15 % less time per evaluation than
- * scalar code, bench/RESULTS.md).  The type allows unaligned pairs, since
- * callers pass any coordinate array (and jd holds pairs at odd offsets). */
-typedef double v2d __attribute__((vector_size(16), aligned(8)));
-typedef long long v2i __attribute__((vector_size(16)));
-
-static inline v2d swap2(v2d a)
-{
-	return __builtin_shuffle(a, (v2i){ 1, 0 });
-}
-
 void mesh_junction_vectors(const mesh *m, const double *r, double *jd)
 {
 	const int nj = m->nj;
@@ -139,7 +128,7 @@ double mesh_cell_factors(const mesh *m, const double *r, const model *p,
 		double per = jd[3 * cj[s] + 2];
 		for (int i = s + 1; i < e; i++) {
 			v2d q = r2[cv[i]] + cimg[i] - x0;
-			acc += prev * swap2(q);
+			acc += prev * v2d_swap(q);
 			per += jd[3 * cj[i] + 2];
 			prev = q;
 		}
@@ -174,7 +163,7 @@ double mesh_energy_tension(const mesh *m, const double *r, const model *p,
 		v2d d = *(const v2d *)(jd + 3 * j);
 		double t = (cc[2 * L + 1] + cc[2 * R + 1] + (dg ? dg[j] : 0.0)) / jd[3 * j + 2];
 		double h = 0.5 * (cc[2 * L] - cc[2 * R]);
-		v2d perp = (v2d){ h, -h } * swap2(d), tan = t * d;
+		v2d perp = (v2d){ h, -h } * v2d_swap(d), tan = t * d;
 		g2[jv[2 * j]] += perp - tan;
 		g2[jv[2 * j + 1]] += perp + tan;
 	}

@@ -39,4 +39,15 @@ int mesh_t1(mesh *m, int j, double lnew, mesh_error *err);
  * updates five instead of all. */
 int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err);
 
+/* Renumber the cells in bands across the box (by the position of each
+ * cell's first vertex: bands about one cell high, left to right within a
+ * band), so that neighbouring cells have nearby numbers.  A T1 shifts the
+ * cell arrays between the smallest and largest number of its four cells;
+ * after thousands of T1s under noise, neighbours have unrelated numbers
+ * and that is most of the cell table (bench/RESULTS.md).  Vertices,
+ * junctions, each cell's corner order and the geometry are unchanged, so
+ * energies and gradients are too (up to the order of the energy sum).
+ * MESH_ENOMEM, with the mesh unchanged. */
+int mesh_sort_cells(mesh *m);
+
 #endif
