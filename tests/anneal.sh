@@ -40,7 +40,7 @@ ok "short protocol writes a valid mesh" valid "$T/a.mesh"
 ok "the same seed gives the same bytes" cmp -s "$T/a.mesh" "$T/b.mesh"
 ok "another seed gives another mesh" sh -c "! cmp -s '$T/a.mesh' '$T/c.mesh'"
 ok "history line says the protocol, the relax method and the T1 count" \
-	grep -Eq '^history tis-anneal .*# stages 0.5:4 0.1:2, relax 2 by sigma=0 Euler dynamics.* [0-9]+ T1s' "$T/a.mesh"
+	grep -Eq '^history tis-anneal .*# stages 0.5:4 0.1:2, relax 2 at sigma=0 .* [0-9]+ T1s' "$T/a.mesh"
 ok "nothing on stderr when it is not a terminal" test ! -s "$T/a.err"
 ok "a relaxed mesh has no tension state" sh -c "! grep -q '^junctions' '$T/a.mesh'"
 tis-anneal --stage 0.5:2 --relax 0 "$T/hex.mesh" >"$T/t.mesh"
@@ -62,7 +62,7 @@ ok "--ou-dt 0.01: another trajectory, and the history line says so" \
 tis-anneal --stage 0.5:3 --stage 0:300 --relax 0 --seed 2 "$T/hex.mesh" >"$T/s1.mesh"
 tis-anneal --stage 0.5:3 --stage 0:300 --relax 0 --seed 2 --settle 0 "$T/hex.mesh" >"$T/s0.mesh"
 ok "settling is said in the history line, with the time it covered" \
-	grep -Eq '# .*; 1 stages ended by Newton minimization at fixed topology once max force and tension <= 0.0001, covering [0-9.]+ time units' "$T/s1.mesh"
+	grep -Eq '# .*; 1 sigma=0 stages finished by Newton minimization at fixed topology once max force and tension <= 0.0001 \(settle\), covering [0-9.]+ time units' "$T/s1.mesh"
 ok "--settle 0 steps through (no settling in the history line)" sh -c "! grep -q 'Newton minimization' '$T/s0.mesh'"
 # (stepping leaves tensions of ~1e-131 after 300 time units; settling drops them)
 cells() { awk '/^cells/ { c = 1 } /^(junctions|end)/ { c = 0 } c' "$1"; }

@@ -308,7 +308,7 @@ int main(int argc, char **argv)
 		len += snprintf(note + len, sizeof note - len, " %g:%g", o.sig[i], o.dur[i]);
 	if (o.relax > 0)
 		len += snprintf(note + len, sizeof note - len,
-				", relax %g by sigma=0 Euler dynamics (T1s %s, %ld in relax)",
+				", relax %g at sigma=0 (T1s %s, %ld in relax)",
 				o.relax, o.d.t1_length > 0 ? "on" : "off", c.nt1 - before_relax.nt1);
 	len += snprintf(note + len, sizeof note - len,
 			"; tau %g, dt<=%g, dr<=%g, seed %lu; t %.10g, %ld steps, %ld T1s",
@@ -318,9 +318,9 @@ int main(int argc, char **argv)
 	if (o.d.ou_dt > 0)
 		len += snprintf(note + len, sizeof note - len, "; noise updated every %g", o.d.ou_dt);
 	if (c.nsettle > 0)
-		len += snprintf(note + len, sizeof note - len, "; %ld stages ended by Newton "
-				"minimization at fixed topology once max force and tension <= %g, "
-				"covering %.10g time units", c.nsettle, o.d.settle, c.t_settled);
+		len += snprintf(note + len, sizeof note - len, "; %ld sigma=0 stages finished by "
+				"Newton minimization at fixed topology once max force and tension <= %g "
+				"(settle), covering %.10g time units", c.nsettle, o.d.settle, c.t_settled);
 	if (!done)
 		snprintf(note + len, sizeof note - len, "; interrupted");
 	history_note(m, note);
