@@ -3,7 +3,7 @@
 # signals.  Short runs on a 6x6 tissue.
 . "$(dirname "$0")/lib.sh"
 
-plan 39
+plan 40
 
 # a mesh is valid when tis-anneal reads it back (mesh_build checks every
 # invariant) through a zero-length run
@@ -46,16 +46,17 @@ ok "a relaxed mesh has no tension state" sh -c "! grep -q '^junctions' '$T/a.mes
 tis-anneal --stage 0.5:2 --relax 0 "$T/hex.mesh" >"$T/t.mesh"
 ok "without relaxation the tensions are written" grep -q '^junctions' "$T/t.mesh"
 
-# --ou-dt: 0 is the default scheme; a coarser noise update is another
-# trajectory, deterministic, and says so in the history line
-run 5 --ou-dt 0 >"$T/o0.mesh"
-ok "--ou-dt 0 gives the default's bytes (apart from the command line)" \
+# --ou-dt: 0.01 is the default; 0 (the paper's every-step update) is
+# another trajectory, deterministic, and says so in the history line
+run 5 --ou-dt 0.01 >"$T/o0.mesh"
+ok "--ou-dt 0.01 gives the default's bytes (apart from the command line)" \
 	sh -c "grep -v '^history' '$T/a.mesh' >'$T/h1'; grep -v '^history' '$T/o0.mesh' >'$T/h2'; cmp -s '$T/h1' '$T/h2'"
-run 5 --ou-dt 0.01 >"$T/o1.mesh" && run 5 --ou-dt 0.01 >"$T/o2.mesh"
-ok "--ou-dt 0.01: the same seed gives the same bytes, a valid mesh" \
+ok "the default says how often the noise was updated" grep -q 'noise updated every 0.01' "$T/a.mesh"
+run 5 --ou-dt 0 >"$T/o1.mesh" && run 5 --ou-dt 0 >"$T/o2.mesh"
+ok "--ou-dt 0: the same seed gives the same bytes, a valid mesh" \
 	sh -c "cmp -s '$T/o1.mesh' '$T/o2.mesh' && tis-anneal --stage 0:0 --relax 0 '$T/o1.mesh' >/dev/null"
-ok "--ou-dt 0.01: another trajectory, and the history line says so" \
-	sh -c "grep -v '^history' '$T/o1.mesh' >'$T/h3'; ! cmp -s '$T/h1' '$T/h3' && grep -q 'noise updated every 0.01' '$T/o1.mesh'"
+ok "--ou-dt 0: another trajectory, and the history line says so" \
+	sh -c "grep -v '^history' '$T/o1.mesh' >'$T/h3'; ! cmp -s '$T/h1' '$T/h3' && grep -q 'noise updated every step' '$T/o1.mesh'"
 
 # settling: a quiet stage ends by minimization once the forces are below
 # --settle, at the minimum that stepping through the stage reaches
