@@ -92,7 +92,7 @@ check: $(LIB) $(PROGS) $(UNITS)
 
 # figures.sh and the study it draws on (disorder-a1.sh, about half an hour)
 # are measurements of physics, not of speed: they run under `make figures`.
-STUDIES = bench/figures.sh bench/disorder-a1.sh
+STUDIES = bench/figures.sh bench/disorder-a1.sh bench/anneal-protocol.sh
 bench: all
 	@for b in $(filter-out $(STUDIES),$(wildcard bench/*.sh)); do \
 	  [ -x "$$b" ] || continue; \

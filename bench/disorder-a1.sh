@@ -48,7 +48,7 @@ mkdir -p "$OUT"
 relax_lin() {
 	b="$OUT/$1-$2-$3"
 	if [ ! -s "$b.lin" ]; then
-		tis-anneal --stage "0:$EULER_T" --relax 0 --p0 "$3" "$4" |
+		tis-anneal --stage "0:$EULER_T" --relax 0 --settle 0 --p0 "$3" "$4" |
 			tis-relax --p0 "$3" >"$b.mesh" 2>"$b.relax" || true
 		tis-forcelen --all --linear --threads 1 "$b.mesh" >"$b.lin"
 	fi
