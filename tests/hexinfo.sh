@@ -1,7 +1,7 @@
 #!/bin/sh
 # tis-hex and tis-info on real pipes: counts, energy, checks, usage errors.
 . "$(dirname "$0")/lib.sh"
-plan 22
+plan 23
 
 tis-hex 18 18 >"$T/h.mesh"
 ok "tis-hex 18 18 | tis-info --check passes" sh -c "tis-hex 18 18 | tis-info --check"
@@ -20,6 +20,8 @@ done
 tis-hex --p0 3.7 --ka 10 4 4 | tis-info >"$T/info"
 ok "params in the mesh set the energy" near "$(val energy)" "$(awk -v h=$phex 'BEGIN { printf "%.15g", 16 * (h - 3.7)^2 }')" 1e-12
 ok "history records the command" sh -c "tis-hex --p0 3.7 4 4 | grep -qx 'history tis-hex --p0 3.7 4 4'"
+ok "history records the command as typed, options after operands" \
+	sh -c "tis-hex 4 4 --p0 3.7 | grep -qx 'history tis-hex 4 4 --p0 3.7'"
 cat "$T/h.mesh" "$T/h.mesh" "$T/h.mesh" | tis-info --tsv >"$T/tsv"
 ok "--tsv: a header and one row per frame" test "$(grep -c '^#' "$T/tsv") $(grep -vc '^#' "$T/tsv")" = "1 3"
 ok "file argument and stdin '-' agree" sh -c "tis-info '$T/h.mesh' >'$T/a' && tis-info - <'$T/h.mesh' >'$T/b' && cmp -s '$T/a' '$T/b'"

@@ -10,12 +10,19 @@
 
 const char *cli_name = "tis";
 static const char *cli_usage_line = "";
+static int cli_argc;
+static char **cli_argv;   /* argv's pointers in their original order */
 volatile sig_atomic_t cli_stop;
 
-void cli_init(const char *name, const char *usage)
+void cli_init(const char *name, const char *usage, int argc, char *const argv[])
 {
 	cli_name = name;
 	cli_usage_line = usage;
+	cli_argc = argc;
+	cli_argv = malloc(((size_t)argc + 1) * sizeof *cli_argv);
+	if (cli_argv == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	memcpy(cli_argv, argv, ((size_t)argc + 1) * sizeof *cli_argv);
 	opterr = 0; /* getopt's own messages would name argv[0], not cli_name */
 	/* GSL's default handler aborts; libmesh checks GSL's status codes */
 	gsl_set_error_handler_off();
@@ -154,9 +161,9 @@ void cli_write_mesh(const mesh *m)
 		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
 }
 
-void cli_history(mesh *m, int argc, char *const argv[])
+void cli_history(mesh *m)
 {
-	if (mesh_history_argv(m, argc, argv) != MESH_OK)
+	if (mesh_history_argv(m, cli_argc, cli_argv) != MESH_OK)
 		cli_die(EXIT_INPUT, "out of memory");
 }
 

@@ -10,8 +10,10 @@
 
 enum { EXIT_INPUT = 1, EXIT_USAGE = 2, EXIT_NOCONV = 3 };
 
-/* Program name (for messages) and the one-line usage synopsis. */
-void cli_init(const char *name, const char *usage);
+/* Program name (for messages), the one-line usage synopsis, and the
+ * command line as typed (getopt_long permutes argv; the history line must
+ * say what was run), before any option is parsed. */
+void cli_init(const char *name, const char *usage, int argc, char *const argv[]);
 extern const char *cli_name;
 
 /* "tis-foo: message" on stderr, then exit with status. */
@@ -49,8 +51,9 @@ int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m);
 mesh *cli_read_one(const char *path);
 /* Write a mesh to stdout; exit 1 on a write error. */
 void cli_write_mesh(const mesh *m);
-/* Add the command line as a history line; exit 1 if out of memory. */
-void cli_history(mesh *m, int argc, char *const argv[]);
+/* Add the command line given to cli_init as a history line; exit 1 if out
+ * of memory. */
+void cli_history(mesh *m);
 
 /* Close stdout and exit 0, or exit 1 on a write error. */
 _Noreturn void cli_finish(void);

@@ -246,14 +246,14 @@ static void history_note(mesh *m, const char *note)
 
 int main(int argc, char **argv)
 {
-	cli_init("tis-anneal", usage);
+	cli_init("tis-anneal", usage, argc, argv);
 	gsl_set_error_handler_off();
 	struct opts o = parse(argc, argv);
 	mesh *m = cli_read_one(o.input);
 	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
 	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
 		cli_die(EXIT_INPUT, "out of memory");
-	cli_history(m, argc, argv);
+	cli_history(m);
 	model p = model_from_mesh(m);
 
 	struct run u = { .o = &o, .m = m, .tty = isatty(2) };

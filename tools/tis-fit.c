@@ -209,7 +209,7 @@ static double num(const char *s, const char *col, long line)
 
 int main(int argc, char **argv)
 {
-	cli_init("tis-fit", usage);
+	cli_init("tis-fit", usage, argc, argv);
 	gsl_set_error_handler_off();
 	struct opts o = parse(argc, argv);
 	input_name = cli_input_name(o.input);

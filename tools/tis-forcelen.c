@@ -290,7 +290,7 @@ static void relax_input(mesh *m, const model *p, const struct opts *o)
 
 int main(int argc, char **argv)
 {
-	cli_init("tis-forcelen", usage);
+	cli_init("tis-forcelen", usage, argc, argv);
 	gsl_set_error_handler_off();
 	struct opts o = parse(argc, argv);
 	cli_catch_signals();

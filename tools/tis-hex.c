@@ -55,7 +55,7 @@ static struct opts parse(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
-	cli_init("tis-hex", usage);
+	cli_init("tis-hex", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 	mesh *m;
 	mesh_error err;
@@ -64,7 +64,7 @@ int main(int argc, char **argv)
 	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
 	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
 		cli_die(EXIT_INPUT, "out of memory");
-	cli_history(m, argc, argv);
+	cli_history(m);
 	cli_write_mesh(m);
 	mesh_free(m);
 	cli_finish();

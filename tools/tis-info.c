@@ -72,7 +72,7 @@ static void print_keys(long frame, const mesh *m, const model *p, const mesh_sta
 
 int main(int argc, char **argv)
 {
-	cli_init("tis-info", usage);
+	cli_init("tis-info", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 	FILE *f = cli_open(o.path);
 	long line = 0, frame = 0;

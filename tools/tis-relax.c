@@ -95,7 +95,7 @@ static double now(void)
 
 int main(int argc, char **argv)
 {
-	cli_init("tis-relax", usage);
+	cli_init("tis-relax", usage, argc, argv);
 	gsl_set_error_handler_off();
 	struct opts o = parse(argc, argv);
 	FILE *f = cli_open(o.path);
@@ -145,7 +145,7 @@ int main(int argc, char **argv)
 			        "evaluations%s\n", cli_name, which, o.mo.ftol, rep.gnorm,
 			        rep.neval + rep.nhessvec, why);
 		}
-		cli_history(m, argc, argv);
+		cli_history(m);
 		cli_write_mesh(m);
 		mesh_free(m);
 	}

@@ -417,7 +417,7 @@ static void write_frame(const mesh *m, const struct opts *o, int j, int frame)
 
 int main(int argc, char **argv)
 {
-	cli_init("tis-svg", usage);
+	cli_init("tis-svg", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 	FILE *in = cli_open(o.input);
 	long line = 0;

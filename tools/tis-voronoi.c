@@ -96,12 +96,7 @@ static struct opts parse(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
-	cli_init("tis-voronoi", usage);
-	/* getopt_long permutes argv; the history line gets the command as typed */
-	char **typed = malloc(((size_t)argc + 1) * sizeof *typed);
-	if (typed == NULL)
-		cli_die(EXIT_INPUT, "out of memory");
-	memcpy(typed, argv, ((size_t)argc + 1) * sizeof *typed);
+	cli_init("tis-voronoi", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 
 	mesh_error err;
@@ -139,10 +134,9 @@ int main(int argc, char **argv)
 	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
 	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
 		cli_die(EXIT_INPUT, "out of memory");
-	cli_history(m, argc, typed);
+	cli_history(m);
 	cli_write_mesh(m);
 	mesh_free(m);
 	free(xy);
-	free(typed);
 	cli_finish();
 }
