@@ -113,6 +113,11 @@ for p in 3.70 3.80 3.83 3.86; do
 		sort -k2,2g >"$DATA/a1_hist_$p.tsv"
 done
 
+# the key gives the ordered samples' hexagon fractions as they are
+ORD=${ORD:-"ordered-11 ordered-12 ordered-13 ordered-14 ordered-15"}
+ORD_F6=$(for s in $ORD; do tis-info "samples/$s.mesh"; done |
+	awk '$1 == "f6" { f = $2 + 0; lo = (n++ && lo < f) ? lo : f; hi = (hi > f) ? hi : f }
+	     END { printf "%.2f-%.2f", lo, hi }')
 PHEX=3.7224194
 gnuplot <<GP
 set terminal pngcairo enhanced size 1500,500 font "sans,12"
@@ -130,7 +135,7 @@ set yrange [-2.5:0.1]
 plot "$DATA/hex_lin.tsv" u 1:6 w l lw 2 lc rgb "blue" t "honeycomb, linear response", \
      "+" u (\$1 >= $PHEX ? \$1 : 1/0):(0) w l lw 2 dt 2 lc rgb "blue" t "honeycomb above p_{hex}: a_1 = 0", \
      "$DATA/hex_fit.tsv" u 1:8 w p pt 7 ps 1.2 lc rgb "blue" t "honeycomb, fit", \
-     "$DATA/lin_ordered.tsv" u 3:7 w l lw 1.5 dt 4 lc rgb "dark-cyan" t "ordered samples 11-15 (f_6 0.91-0.98), median", \
+     "$DATA/lin_ordered.tsv" u 3:7 w l lw 1.5 dt 4 lc rgb "dark-cyan" t "ordered samples 11-15 (f_6 $ORD_F6), median", \
      "$DATA/lin_disordered.tsv" u 3:6:8 w filledcurves fs transparent solid 0.2 lc rgb "red" t "disordered, quartiles (lin.)", \
      "$DATA/lin_disordered.tsv" u 3:7 w l lw 2 lc rgb "red" t "disordered, median (linear response)", \
      "$DATA/dis_summary.tsv" u 1:4:3:5 w yerrorbars pt 5 ps 1 lc rgb "dark-red" t "disordered, fit: median, quartiles", \
