@@ -114,10 +114,8 @@ for p in 3.70 3.80 3.83 3.86; do
 done
 
 # the key gives the ordered samples' hexagon fractions as they are
-ORD=${ORD:-"ordered-11 ordered-12 ordered-13 ordered-14 ordered-15"}
-ORD_F6=$(for s in $ORD; do tis-info "samples/$s.mesh"; done |
-	awk '$1 == "f6" { f = $2 + 0; lo = (n++ && lo < f) ? lo : f; hi = (hi > f) ? hi : f }
-	     END { printf "%.2f-%.2f", lo, hi }')
+ORD_F6=$(cat samples/ordered-*.mesh | tis-info | awk '$1 == "f6" { print $2 }' | sort -g |
+	awk 'NR == 1 { lo = $1 } { hi = $1 } END { printf "%.2f-%.2f", lo, hi }')
 PHEX=3.7224194
 gnuplot <<GP
 set terminal pngcairo enhanced size 1500,500 font "sans,12"

@@ -6,7 +6,6 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-#include <gsl/gsl_errno.h>
 
 #include "cli.h"
 #include "dynamics.h"
@@ -247,7 +246,6 @@ static void history_note(mesh *m, const char *note)
 int main(int argc, char **argv)
 {
 	cli_init("tis-anneal", usage, argc, argv);
-	gsl_set_error_handler_off();
 	struct opts o = parse(argc, argv);
 	mesh *m = cli_read_one(o.input);
 	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||

@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
 
 #include "cli.h"
 #include "fit.h"
@@ -210,7 +209,6 @@ static double num(const char *s, const char *col, long line)
 int main(int argc, char **argv)
 {
 	cli_init("tis-fit", usage, argc, argv);
-	gsl_set_error_handler_off();
 	struct opts o = parse(argc, argv);
 	input_name = cli_input_name(o.input);
 	FILE *in = cli_open(o.input);

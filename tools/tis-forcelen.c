@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
@@ -291,7 +290,6 @@ static void relax_input(mesh *m, const model *p, const struct opts *o)
 int main(int argc, char **argv)
 {
 	cli_init("tis-forcelen", usage, argc, argv);
-	gsl_set_error_handler_off();
 	struct opts o = parse(argc, argv);
 	cli_catch_signals();
 	FILE *in = cli_open(o.input);

@@ -5,7 +5,6 @@
 #include <string.h>
 #include <time.h>
 
-#include <gsl/gsl_errno.h>
 
 #include "cli.h"
 #include "geom.h"
@@ -96,7 +95,6 @@ static double now(void)
 int main(int argc, char **argv)
 {
 	cli_init("tis-relax", usage, argc, argv);
-	gsl_set_error_handler_off();
 	struct opts o = parse(argc, argv);
 	FILE *f = cli_open(o.path);
 	long line = 0;
