@@ -65,6 +65,7 @@ void mesh_free(mesh *m)
 	for (int i = 0; i < m->nhist; i++)
 		free(m->hist[i]);
 	free(m->hist);
+	mesh_state_clear(m);
 	free(m);
 }
 
@@ -109,6 +110,11 @@ mesh *mesh_copy(const mesh *m)
 		else
 			c->nhist++;
 	}
+	c->state = NULL;
+	c->nstate = 0;
+	for (int i = 0; !bad && i < m->nstate; i++)
+		if (mesh_state_set(c, m->state[i].name, m->state[i].text) != MESH_OK)
+			bad = 1;
 	if (bad) {
 		mesh_free(c);
 		return NULL;
@@ -459,6 +465,58 @@ int mesh_param_set(mesh *m, const char *name, double v)
 	return MESH_OK;
 }
 
+static int name_ok(const char *nm)
+{
+	if (!(isalpha((unsigned char)nm[0]) || nm[0] == '_') || strlen(nm) >= 32)
+		return 0;
+	for (const char *c = nm; *c; c++)
+		if (!(isalnum((unsigned char)*c) || *c == '_'))
+			return 0;
+	return 1;
+}
+
+const char *mesh_state_get(const mesh *m, const char *name)
+{
+	for (int i = 0; i < m->nstate; i++)
+		if (strcmp(m->state[i].name, name) == 0)
+			return m->state[i].text;
+	return NULL;
+}
+
+int mesh_state_set(mesh *m, const char *name, const char *text)
+{
+	if (!name_ok(name) || strchr(text, '\n'))
+		return MESH_EDOM;
+	char *t = strdup(text);
+	if (t == NULL)
+		return MESH_ENOMEM;
+	for (int i = 0; i < m->nstate; i++)
+		if (strcmp(m->state[i].name, name) == 0) {
+			free(m->state[i].text);
+			m->state[i].text = t;
+			return MESH_OK;
+		}
+	mesh_state *s = realloc(m->state, (m->nstate + 1) * sizeof *s);
+	if (s == NULL) {
+		free(t);
+		return MESH_ENOMEM;
+	}
+	m->state = s;
+	strcpy(s[m->nstate].name, name);
+	s[m->nstate].text = t;
+	m->nstate++;
+	return MESH_OK;
+}
+
+void mesh_state_clear(mesh *m)
+{
+	for (int i = 0; i < m->nstate; i++)
+		free(m->state[i].text);
+	free(m->state);
+	m->state = NULL;
+	m->nstate = 0;
+}
+
 int mesh_history_add(mesh *m, const char *text)
 {
 	char **h = realloc(m->hist, (m->nhist + 1) * sizeof *h);
@@ -487,14 +545,14 @@ static int needs_quote(const char *s)
 	return 0;
 }
 
-int mesh_history_argv(mesh *m, int argc, char *const argv[])
+char *mesh_argv_string(int argc, char *const argv[])
 {
 	size_t len = 1;
 	for (int i = 0; i < argc; i++)
 		len += 4 * strlen(argv[i]) + 3;
 	char *buf = malloc(len), *p = buf;
 	if (buf == NULL)
-		return MESH_ENOMEM;
+		return NULL;
 	for (int i = 0; i < argc; i++) {
 		const char *a = argv[i];
 		if (i == 0) {
@@ -522,6 +580,14 @@ int mesh_history_argv(mesh *m, int argc, char *const argv[])
 		}
 	}
 	*p = '\0';
+	return buf;
+}
+
+int mesh_history_argv(mesh *m, int argc, char *const argv[])
+{
+	char *buf = mesh_argv_string(argc, argv);
+	if (buf == NULL)
+		return MESH_ENOMEM;
 	int st = mesh_history_add(m, buf);
 	free(buf);
 	return st;
@@ -556,6 +622,8 @@ int mesh_write(FILE *f, const mesh *m)
 	}
 	for (int i = 0; i < m->nhist; i++)
 		fprintf(f, "history %s\n", m->hist[i]);
+	for (int i = 0; i < m->nstate; i++)
+		fprintf(f, "state %s %s\n", m->state[i].name, m->state[i].text);
 	fprintf(f, "vertices %d\n", m->nv);
 	/* Coordinates rarely have a short exact form, and the shortest-form
 	 * search costs three conversions each: plain %.17g is exact and fast.
@@ -599,6 +667,7 @@ typedef struct {
 	char *tok[8];
 	int ntok;
 	char *rest;        /* the text of a history line */
+	char *srest;       /* the text of a state line after its name */
 } reader;
 
 /* Next line that is neither blank nor a comment, split into up to 8
@@ -633,6 +702,27 @@ static int next_line(reader *rd)
 			while (*rd->rest == ' ' || *rd->rest == '\t')
 				rd->rest++;
 			rd->ntok = 2;
+			return 1;
+		}
+		if (strncmp(s, "state", 5) == 0 && (s[5] == ' ' || s[5] == '\t')) {
+			/* state text is kept verbatim after the name */
+			rd->tok[0] = s;
+			s[5] = '\0';
+			s += 6;
+			while (*s == ' ' || *s == '\t')
+				s++;
+			rd->tok[1] = s;
+			while (*s && *s != ' ' && *s != '\t')
+				s++;
+			rd->ntok = *rd->tok[1] ? 2 : 1;
+			if (*s) {
+				*s++ = '\0';
+				while (*s == ' ' || *s == '\t')
+					s++;
+			}
+			rd->srest = s;
+			if (*s)
+				rd->ntok = 3;
 			return 1;
 		}
 		while (*s) {
@@ -725,12 +815,19 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 			if (rd->ntok != 3 || !parse_double(rd->tok[2], &v))
 				BAD("expected 'param NAME VALUE' with a finite value");
 			const char *nm = rd->tok[1];
-			if (!(isalpha((unsigned char)nm[0]) || nm[0] == '_') || strlen(nm) >= 32)
+			if (!name_ok(nm))
 				BAD("bad parameter name '%.40s'", nm);
-			for (const char *c = nm; *c; c++)
-				if (!(isalnum((unsigned char)*c) || *c == '_'))
-					BAD("bad parameter name '%.40s'", nm);
 			if (mesh_param_set(m, nm, v) != MESH_OK)
+				NOMEM();
+		} else if (strcmp(k, "state") == 0) {
+			if (rd->ntok < 3)
+				BAD("expected 'state NAME TEXT'");
+			const char *nm = rd->tok[1];
+			if (!name_ok(nm))
+				BAD("bad state name '%.40s'", nm);
+			if (mesh_state_get(m, nm))
+				BAD("second 'state %.40s' line", nm);
+			if (mesh_state_set(m, nm, rd->srest) != MESH_OK)
 				NOMEM();
 		} else if (strcmp(k, "history") == 0) {
 			if (mesh_history_add(m, rd->rest ? rd->rest : "") != MESH_OK)
@@ -742,7 +839,7 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 				BAD("expected 'vertices NV' with a count in 3..%d", MESH_MAX_COUNT);
 			break;
 		} else {
-			BAD("unexpected '%.40s', expected box, param, history or vertices", k);
+			BAD("unexpected '%.40s', expected box, param, history, state or vertices", k);
 		}
 	}
 

@@ -35,6 +35,13 @@ typedef struct {
 	double value;
 } mesh_param;
 
+/* Run state that a continued run needs and the model does not (time,
+ * stage, random generator): "state NAME TEXT" lines, TEXT kept verbatim. */
+typedef struct {
+	char name[32];
+	char *text;
+} mesh_state;
+
 typedef struct mesh {
 	double lx, ly;     /* periodic box [0,lx) x [0,ly) */
 
@@ -61,6 +68,8 @@ typedef struct mesh {
 	mesh_param *param;
 	int nhist;
 	char **hist;
+	int nstate;
+	mesh_state *state;
 } mesh;
 
 /* Fill err (if not NULL) with line and a printf-style message, and return
@@ -111,6 +120,18 @@ int mesh_tension_alloc(mesh *m);
 /* Parameters: get returns 1 and sets *v if present, else 0. */
 int mesh_param_get(const mesh *m, const char *name, double *v);
 int mesh_param_set(mesh *m, const char *name, double v);
+
+/* Run state lines: get returns the text of NAME or NULL; set adds or
+ * replaces it (names as for parameters, text one line without NUL;
+ * MESH_EDOM for a bad name, MESH_ENOMEM); clear removes every state line
+ * (a finished run leaves none, so the mesh reads as a fresh start). */
+const char *mesh_state_get(const mesh *m, const char *name);
+int mesh_state_set(mesh *m, const char *name, const char *text);
+void mesh_state_clear(mesh *m);
+
+/* The command line argv[0..argc) as one shell-quoted string (argv[0]
+ * without its directory), malloc'd; NULL if out of memory. */
+char *mesh_argv_string(int argc, char *const argv[]);
 
 /* Append a history line (newlines become spaces). */
 int mesh_history_add(mesh *m, const char *text);

@@ -1,10 +1,15 @@
 /* noise.c - exact Ornstein-Uhlenbeck steps on GSL's taus2. */
 #include "noise.h"
 
+#include <ctype.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
+
+#include "mesh.h"
 
 struct ou_noise {
 	gsl_rng *rng;
@@ -35,6 +40,41 @@ void ou_free(ou_noise *g)
 		return;
 	gsl_rng_free(g->rng);
 	free(g);
+}
+
+int ou_state_get(const ou_noise *g, char *buf, size_t n)
+{
+	size_t sz = gsl_rng_size(g->rng);
+	const unsigned char *st = gsl_rng_state(g->rng);
+	const char *name = gsl_rng_name(g->rng);
+	if (n < strlen(name) + 2 + 2 * sz)
+		return MESH_EDOM;
+	size_t k = (size_t)sprintf(buf, "%s ", name);
+	for (size_t i = 0; i < sz; i++)
+		k += (size_t)sprintf(buf + k, "%02x", st[i]);
+	return MESH_OK;
+}
+
+int ou_state_set(ou_noise *g, const char *text)
+{
+	const char *name = gsl_rng_name(g->rng);
+	size_t nl = strlen(name), sz = gsl_rng_size(g->rng);
+	if (strncmp(text, name, nl) != 0 || text[nl] != ' ' ||
+	    strlen(text + nl + 1) != 2 * sz)
+		return MESH_EINVAL;
+	unsigned char *st = gsl_rng_state(g->rng), tmp[64];
+	if (sz > sizeof tmp)
+		return MESH_EINVAL;
+	for (size_t i = 0; i < sz; i++) {
+		unsigned v;
+		const char *h = text + nl + 1 + 2 * i;
+		if (!isxdigit((unsigned char)h[0]) || !isxdigit((unsigned char)h[1]) ||
+		    sscanf(h, "%2x", &v) != 1)
+			return MESH_EINVAL;
+		tmp[i] = (unsigned char)v;
+	}
+	memcpy(st, tmp, sz);
+	return MESH_OK;
 }
 
 double ou_gauss(ou_noise *g)

@@ -16,11 +16,23 @@
 #ifndef TIS_NOISE_H
 #define TIS_NOISE_H
 
+#include <stddef.h>
+
 typedef struct ou_noise ou_noise;
 
 /* A generator seeded with seed; NULL if out of memory. */
 ou_noise *ou_alloc(unsigned long seed);
 void ou_free(ou_noise *n);
+
+/* The generator's state as text (a run that stops saves it in the mesh,
+ * so that continuing gives the numbers an uninterrupted run would have
+ * drawn): "taus2 " and the state's bytes in hex, into buf of size n.
+ * MESH_OK, or MESH_EDOM if n is too small. */
+int ou_state_get(const ou_noise *g, char *buf, size_t n);
+/* Restore a state written by ou_state_get.  MESH_OK, or MESH_EINVAL if the
+ * text is not such a state. */
+int ou_state_set(ou_noise *g, const char *text);
+#define OU_STATE_LEN 128   /* enough for ou_state_get */
 
 /* One standard normal number. */
 double ou_gauss(ou_noise *n);

@@ -27,7 +27,7 @@ static mesh *read_str(const char *s, long *line, int *st, mesh_error *err)
 
 int main(void)
 {
-	tap_plan(16);
+	tap_plan(19);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 4, &m, &err);
@@ -48,6 +48,8 @@ int main(void)
 	mesh_tension_alloc(m);
 	m->dg[3] = 0.1;
 	m->dg[7] = -1e-300;
+	mesh_state_set(m, "t", "12.5");
+	mesh_state_set(m, "rng", "taus2 00ff  x y");
 
 	size_t n1, n2;
 	char *a = write_str(m, &n1);
@@ -121,6 +123,15 @@ int main(void)
 	int j = mesh_junction_find(b, b->jv[10], b->jv[11]);
 	ok(j == 5 && mesh_junction_find(b, b->jv[11], b->jv[10]) == 5,
 	   "junction lookup in both orders");
+	ok(b && b->nstate == 2 && strcmp(mesh_state_get(b, "rng"), "taus2 00ff  x y") == 0 &&
+	   strcmp(mesh_state_get(b, "t"), "12.5") == 0, "state lines read back verbatim");
+	mesh *sc = mesh_copy(b);
+	ok(sc && mesh_state_get(sc, "t") && mesh_state_set(sc, "t", "13") == MESH_OK &&
+	   strcmp(mesh_state_get(b, "t"), "12.5") == 0, "a copy owns its state lines");
+	mesh_state_clear(sc);
+	ok(sc->nstate == 0 && mesh_state_get(sc, "t") == NULL &&
+	   mesh_state_set(sc, "1x", "a") == MESH_EDOM, "state cleared; bad names refused");
+	mesh_free(sc);
 	ok(mesh_junction_find(b, 0, 0) == -1, "no junction from a vertex to itself");
 
 	/* The 2x2 honeycomb: each pair of cells shares two junctions. */

@@ -6,6 +6,7 @@
  * Tolerances are 5 standard errors of the estimates. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "dynamics.h"
 #include "lattice.h"
@@ -64,7 +65,7 @@ static int watch_step(dyn *d, void *data)
 
 int main(void)
 {
-	tap_plan(18);
+	tap_plan(20);
 	const double sigma = 0.3, tau = 2.0, dt = 0.01;
 	ou_noise *g = ou_alloc(42);
 	double *x = malloc(N * sizeof *x), *x0 = malloc(N * sizeof *x0);
@@ -141,6 +142,19 @@ int main(void)
 	for (int i = 0; i < 1000; i++)
 		same &= ou_gauss(d1) == ou_gauss(d2);
 	ok(same, "the same seed gives the same numbers");
+	/* a saved state continues the stream exactly, in another generator */
+	char sbuf[OU_STATE_LEN];
+	ou_noise *d3 = ou_alloc(1);
+	int saved = ou_state_get(d1, sbuf, sizeof sbuf) == MESH_OK &&
+		    ou_state_set(d3, sbuf) == MESH_OK;
+	same = saved;
+	for (int i = 0; i < 1000; i++)
+		same &= ou_gauss(d1) == ou_gauss(d3);
+	ok(same, "a saved generator state continues the stream (%s)", sbuf);
+	sbuf[strlen(sbuf) - 1] = 'g';
+	ok(ou_state_set(d3, sbuf) == MESH_EINVAL && ou_state_set(d3, "mt19937 00") == MESH_EINVAL,
+	   "a damaged state is refused");
+	ou_free(d3);
 
 	/* Feedback mode, one Euler step on a force-free honeycomb with one
 	 * active junction at tension dg: its ends are pulled together,

@@ -161,6 +161,20 @@ void cli_write_mesh(const mesh *m)
 		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
 }
 
+void cli_table_header(FILE *f, const mesh *m, const char *cols)
+{
+	if (m)
+		for (int i = 0; i < m->nhist; i++)
+			fprintf(f, "# %s\n", m->hist[i]);
+	char *cmd = mesh_argv_string(cli_argc, cli_argv);
+	if (cmd == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	fprintf(f, "# %s\n%s\n", cmd, cols);
+	free(cmd);
+	if (ferror(f))
+		cli_die(EXIT_INPUT, "write error");
+}
+
 void cli_history(mesh *m)
 {
 	if (mesh_history_argv(m, cli_argc, cli_argv) != MESH_OK)

@@ -55,6 +55,12 @@ void cli_write_mesh(const mesh *m);
  * of memory. */
 void cli_history(mesh *m);
 
+/* Begin a TSV table on f: "# " lines of provenance (the history of m, if
+ * m is not NULL, then this program's command line), then the plain column
+ * names cols (tab-separated, no '#'), the header pandas (comment='#') and
+ * gnuplot (columnhead) read by name.  Exit 1 on a write error. */
+void cli_table_header(FILE *f, const mesh *m, const char *cols);
+
 /* Close stdout and exit 0, or exit 1 on a write error. */
 _Noreturn void cli_finish(void);
 
