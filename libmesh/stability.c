@@ -465,9 +465,10 @@ int stab_critical(const stab_jn *jn, double rate, stab_crit *c)
 			double sn = s - h / dh;
 			if (!(sn > s))
 				break;
+			int last = sn - s <= 1e-15 * sn;
 			s = sn;
 			h = hopf_h(jn, rate, s, &dh, &a);
-			if (h >= 0 || (sn - s) == 0)
+			if (h >= 0 || last)
 				break;
 		}
 		if (it == 500 || !(a > 0))
