@@ -260,6 +260,8 @@ int stab_jn_modes(stab_jn *jn, double l0, int n, const double *d,
 
 double stab_jn_a1(const stab_jn *jn)
 {
+	if (jn->nneg > 0)
+		return NAN;
 	return jn->beta > 1e-10 || !(jn->a0 > 0) ? 0.0 : -2.0 / jn->a0;
 }
 

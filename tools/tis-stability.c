@@ -257,7 +257,7 @@ static void dense_check(const mesh *m, const model *p, const struct opts *o, int
 	printf("\t%.12g\t%.12g", re, im);
 }
 
-/* Every row of one mesh; 1 if the passive state has negative modes. */
+/* Every row of one mesh; the number of negative Hessian modes. */
 static int analyse(const mesh *m, const model *p, const struct opts *o)
 {
 	if (o->network) {
@@ -316,13 +316,10 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 			}
 		}
 	}
-	if (nneg)
-		cli_warn("p0 %g: the passive state is not a minimum (%d negative hessian modes):"
-		         " no thresholds", p->p0, nneg);
 	free(sel);
 	stab_jn_free(jn);
 	stab_decomp_free(sd);
-	return nneg > 0;
+	return nneg;
 }
 
 int main(int argc, char **argv)
@@ -333,7 +330,8 @@ int main(int argc, char **argv)
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;
-	int nmesh = 0, unstable = 0;
+	int nmesh = 0, unstable = 0, nneg = 0;
+	double p0neg = 0;
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		model p = model_from_mesh(m);
 		if (o.has_p0)
@@ -341,7 +339,11 @@ int main(int argc, char **argv)
 		if (o.has_ka)
 			p.ka = o.ka;
 		nmesh++;
-		unstable += analyse(m, &p, &o);
+		int k = analyse(m, &p, &o);
+		if (k > 0 && unstable++ == 0) {
+			nneg = k;
+			p0neg = p.p0;
+		}
 		mesh_free(m);
 	}
 	if (in != stdin)
@@ -356,7 +358,8 @@ int main(int argc, char **argv)
 		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
 	if (unstable) {
 		fflush(stdout);
-		cli_die(EXIT_INPUT, "%d of %d meshes had negative hessian modes", unstable, nmesh);
+		cli_die(EXIT_INPUT, "%d of %d meshes not at a minimum (first: p0 %g, %d negative "
+		        "hessian modes): kind unstable, no thresholds", unstable, nmesh, p0neg, nneg);
 	}
 	cli_finish();
 }
