@@ -33,18 +33,10 @@ void stab_opts_init(stab_opts *o)
 
 int stab_fmax(const mesh *m, const model *p, double *fmax)
 {
-	energy_ws *ws = energy_ws_alloc(m);
-	double *g = malloc((2 * (size_t)m->nv + 1) * sizeof *g);
-	if (ws == NULL || g == NULL) {
-		energy_ws_free(ws);
-		free(g);
-		return MESH_ENOMEM;
-	}
-	mesh_energy(m, m->r, p, g, ws);
-	*fmax = grad_max_norm(m->nv, g);
-	energy_ws_free(ws);
-	free(g);
-	return MESH_OK;
+	mesh_stats st;
+	int rc = mesh_stats_compute(m, p, &st);
+	*fmax = st.fmax;
+	return rc;
 }
 
 static int check_balance(const mesh *m, const model *p, const stab_opts *o,

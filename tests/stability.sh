@@ -5,7 +5,7 @@
 # at g0* and on eigenvalue rows of a relaxed Voronoi tissue, the network at
 # gamma0 = 0, negative modes, and bad input.
 . "$(dirname "$0")/lib.sh"
-plan 26
+plan 28
 
 tis-hex 18 18 --p0 3.65 >"$T/h18.mesh"
 tis-hex 6 6 --p0 3.65 >"$T/h6.mesh"
@@ -72,6 +72,10 @@ ok "and its row says unstable, g0star nan" \
 # Bad input.
 fails_with 1 "--junction that does not exist" tis-stability --junction 0 5 --rate 0.1 "$T/h6.mesh"
 fails_with 1 "--index past the last junction" tis-stability --index 108 --rate 0.1 "$T/h6.mesh"
+printf '2\n0 99999\n' >"$T/badlist"
+fails_with 1 "--list naming a junction that does not exist" \
+	tis-stability --list "$T/badlist" --rate 0.1 "$T/h6.mesh"
+fails_with 2 "--tau 0" tis-stability --tau 0 "$T/h6.mesh"
 fails_with 2 "rate 0" tis-stability --rate 0 "$T/h6.mesh"
 fails_with 2 "a negative rate in a list" tis-stability --rate 0.1,-1 "$T/h6.mesh"
 fails_with 2 "rate nan" tis-stability --rate nan "$T/h6.mesh"

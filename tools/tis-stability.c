@@ -110,10 +110,7 @@ static struct opts parse(int argc, char **argv)
 		switch (c) {
 		case O_JUNCTION:
 			set_sel(&o, SEL_PAIR);
-			o.va = cli_long("--junction", optarg, 0, 2000000000);
-			if (optind >= argc)
-				cli_usage_error("option '--junction' needs two vertex ids");
-			o.vb = cli_long("--junction", argv[optind++], 0, 2000000000);
+			cli_vertex_pair("--junction", argc, argv, &o.va, &o.vb);
 			break;
 		case O_INDEX:
 			set_sel(&o, SEL_INDEX);
@@ -167,45 +164,19 @@ static struct opts parse(int argc, char **argv)
 	return o;
 }
 
-/* Junctions of --list FILE: "K" or "A B" per line. */
 static int *read_list(const char *path, const mesh *m, int *count)
 {
 	FILE *f = fopen(path, "r");
 	if (f == NULL)
 		cli_die(EXIT_INPUT, "--list %s: cannot open it", path);
-	int n = 0, cap = 16;
-	int *sel = malloc((size_t)cap * sizeof *sel);
-	char buf[256];
-	long line = 0;
-	while (sel && fgets(buf, sizeof buf, f)) {
-		line++;
-		char *h = strchr(buf, '#');
-		if (h)
-			*h = '\0';
-		long a, b;
-		char extra;
-		int got = sscanf(buf, "%ld %ld %c", &a, &b, &extra);
-		if (got <= 0)
-			continue;   /* blank or comment */
-		int j = -1;
-		if (got == 1 && a >= 0 && a < m->nj)
-			j = (int)a;
-		else if (got == 2 && a >= 0 && b >= 0)
-			j = cli_junction(m, a, b);
-		else
-			cli_die(EXIT_INPUT, "--list %s:%ld: not a junction of the mesh (%d junctions)",
-			        path, line, m->nj);
-		if (n == cap)
-			sel = realloc(sel, (size_t)(cap *= 2) * sizeof *sel);
-		if (sel)
-			sel[n++] = j;
-	}
+	int *sel;
+	mesh_error err;
+	int st = mesh_junctions_read(f, m, &sel, count, &err);
 	fclose(f);
-	if (sel == NULL)
-		cli_die(EXIT_INPUT, "out of memory");
-	if (n == 0)
-		cli_die(EXIT_INPUT, "--list %s: no junctions in it", path);
-	*count = n;
+	if (st != MESH_OK && err.line > 0)
+		cli_die(EXIT_INPUT, "--list %s:%ld: %s", path, err.line, err.msg);
+	if (st != MESH_OK)
+		cli_die(EXIT_INPUT, "--list %s: %s", path, err.msg);
 	return sel;
 }
 
