@@ -98,7 +98,9 @@ bench: all
 	  [ -x "$$b" ] || continue; \
 	  echo "== $$b"; PATH="$(CURDIR)/bin:$$PATH" "$$b" || exit 1; done
 
-DEBS = libgsl-dev libnlopt-dev libcgal-dev g++ make
+DEBS = libgsl-dev libnlopt-dev libcgal-dev g++ make perl
+# the table and VTK tests use these when present (CI installs them)
+TESTDEBS = python3-pandas gnuplot-nox python3-vtk9
 FIGDEBS = gnuplot-nox
 deps:
 	@./.ci/deps $(DEBS)

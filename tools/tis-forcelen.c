@@ -253,12 +253,12 @@ static void *worker(void *arg)
 	return NULL;
 }
 
-static void print_header(int linear)
+/* Provenance (the first mesh's history and this command line), then the
+ * column names. */
+static void print_header(const mesh *m, int linear)
 {
-	if (linear)
-		printf("# p0\tj\ta\tb\tl0\ta1\tnzero\tnneg\n");
-	else
-		printf("# p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres\n");
+	cli_table_header(stdout, m, linear ? "p0\tj\ta\tb\tl0\ta1\tnzero\tnneg"
+	                                   : "p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres");
 }
 
 /* Bring the mesh to rest at p if it is not, so that l0 is a rest length. */
@@ -300,7 +300,7 @@ int main(int argc, char **argv)
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		/* the header waits for a valid mesh: bad input leaves no output */
 		if (nmesh++ == 0)
-			print_header(o.linear);
+			print_header(m, o.linear);
 		model p = model_from_mesh(m);
 		if (o.has_p0)
 			p.p0 = o.p0;
