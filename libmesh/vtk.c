@@ -154,9 +154,6 @@ int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t)
 	for (int i = 0; i < np; i++) {
 		int v = i < m->nv ? i : pt.vert[i - m->nv];
 		double x = m->r[2 * v], y = m->r[2 * v + 1];
-		/* the mesh's coordinates are wrapped on writing, not in memory */
-		x -= m->lx * floor(x / m->lx);
-		y -= m->ly * floor(y / m->ly);
 		if (i >= m->nv) {
 			x += pt.ix[i - m->nv] * m->lx;
 			y += pt.iy[i - m->nv] * m->ly;

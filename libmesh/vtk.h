@@ -20,6 +20,8 @@
 #include "geom.h"
 
 /* Write m as one .vtp file; t, if not NULL, as its field data TimeValue.
+ * Points are where m has its vertices: mesh_wrap() m first to have them
+ * in the box.
  * MESH_ENOMEM, MESH_EIO on a write error. */
 int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t);
 

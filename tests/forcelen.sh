@@ -3,7 +3,7 @@
 # against the exact linear response, threads do not change the bytes,
 # several meshes in one stream, the return legs, usage and input errors.
 . "$(dirname "$0")/lib.sh"
-plan 33
+plan 35
 
 tis-hex 6 6 --p0 3.6 >"$T/h.mesh"
 tis-forcelen --index 0 --range 0.02 "$T/h.mesh" >"$T/c.tsv"
@@ -60,6 +60,8 @@ ok "--cusps: only the trivial zero at l0 on a stable junction" \
 ok "--branch back fits the return legs" sh -c "tis-fit --degree 2 --window 0.02 --branch back '$T/c.tsv' | grep -v '^#' | awk 'NR == 2 { exit !(\$6 == 9) }'"
 ok "--help to stdout" sh -c "tis-forcelen --help | grep -q '^usage: tis-forcelen' && tis-fit --help | grep -q '^usage: tis-fit'"
 
+fails_with 2 "--linear with a sweep option" tis-forcelen --index 0 --linear --no-back "$T/h.mesh"
+ok "--lmin above l0: a warning, no inward legs" sh -c "tis-forcelen --index 0 --range 0.02 --lmin 100 '$T/h.mesh' 2>'$T/lw' | awk '\$1 == \$1 + 0' | wc -l | grep -qx 9 && grep -q 'no longer than --lmin 100' '$T/lw'"
 fails_with 2 "no junction selection" tis-forcelen "$T/h.mesh"
 fails_with 2 "two selections" tis-forcelen --all --index 0 "$T/h.mesh"
 fails_with 2 "--step nan" tis-forcelen --index 0 --step nan "$T/h.mesh"

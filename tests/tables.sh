@@ -5,7 +5,7 @@
 # and tis-fit tables by column name; the README's two examples run as
 # written.  pandas and gnuplot tests are skipped when they are missing.
 . "$(dirname "$0")/lib.sh"
-plan 21
+plan 22
 top=$(cd "$(dirname "$0")/.." && pwd)
 PY=${PYTHON:-/usr/bin/python3}
 
@@ -51,6 +51,7 @@ ok "--junctions: one row per junction, tension 4 (P - p0)" test "$(rows "$T/junc
 	($8 - 0.62040323940139)^2 < 1e-20 && ($9 - 4 * (p - 3.6))^2 < 1e-18 && $10 == 0 { n++ } END { print n }')" = 108
 fails_with 2 "tis-info: --tsv and --check" tis-info --tsv --check "$T/h.mesh"
 fails_with 2 "tis-info: --cells and --junctions" tis-info --cells --junctions "$T/h.mesh"
+fails_with 2 "tis-info: --p0 with --check does nothing" tis-info --check --p0 3.7 "$T/h.mesh"
 
 # pandas, by column name
 if "$PY" -c 'import pandas' 2>/dev/null; then

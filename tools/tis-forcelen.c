@@ -107,8 +107,13 @@ static struct opts parse(int argc, char **argv)
 	};
 	struct opts o = { .sel = SEL_NONE, .seed = 1, .relax = 1, .threads = 2 };
 	fl_opts_init(&o.fl);
+	const char *sweep_opt = NULL;   /* the first option only a sweep uses */
 	int c;
-	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+	int li;
+	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
+		if (sweep_opt == NULL && (c == O_STEP || c == O_RANGE || c == O_LMIN || c == O_NOBACK ||
+		                          c == O_PRED || c == O_ALGO || c == O_MAXEVAL || c == O_NOPC))
+			sweep_opt = lo[li].name;
 		switch (c) {
 		case O_JUNCTION:
 			set_sel(&o, SEL_PAIR);
@@ -151,6 +156,8 @@ static struct opts parse(int argc, char **argv)
 	}
 	if (o.sel == SEL_NONE)
 		cli_usage_error("choose junctions with --junction, --index, --random or --all");
+	if (o.linear && sweep_opt)
+		cli_usage_error("--linear sweeps nothing: --%s does nothing with it", sweep_opt);
 	if (o.fl.range / o.fl.step > 1e6)
 		cli_usage_error("--range/--step: more than 1e6 points per leg");
 	if (argc - optind > 1)
@@ -213,6 +220,12 @@ static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 	}
 	if (sel == NULL || (n == 0 && m->nj > 0))
 		cli_die(EXIT_INPUT, "out of memory");
+	int nshort = 0;
+	for (int k = 0; k < n && !o->linear; k++)
+		nshort += junction_length(m, m->r, sel[k]) <= o->fl.lmin;
+	if (nshort)
+		cli_warn("%d of %d junctions are no longer than --lmin %g: no inward legs for them",
+		         nshort, n, o->fl.lmin);
 	*count = n;
 	return sel;
 }

@@ -111,6 +111,7 @@ int main(int argc, char **argv)
 			p.p0 = o.p0;
 		if (o.has_ka)
 			p.ka = o.ka;
+		mesh_wrap(m);   /* vertices in the box, the images outside it */
 		double t;
 		int has_t = mesh_time(m, &t);
 		FILE *f = stdout;
