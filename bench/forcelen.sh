@@ -35,7 +35,7 @@ else
 	tis-voronoi 324 --seed 1 --lloyd 10 | tis-relax --quiet --p0 3.60 >"$T/irr.mesh"
 fi
 echo "# one 121-point curve, junction 0; irregular = $irr relaxed at p0 3.60"
-printf '# mesh\tp0\ttol\tprecond_s\tplain_s\tworst_fres\n'
+printf 'mesh\tp0\ttol\tprecond_s\tplain_s\tworst_fres\n'
 for m in h360:3.60 h370:3.70 irr:3.60; do
 	f=${m%%:*} p=${m#*:}
 	for tol in 1e-8 1e-10 1e-12; do
