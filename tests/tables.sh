@@ -5,7 +5,7 @@
 # and tis-fit tables by column name; the README's two examples run as
 # written.  pandas and gnuplot tests are skipped when they are missing.
 . "$(dirname "$0")/lib.sh"
-plan 22
+plan 24
 top=$(cd "$(dirname "$0")/.." && pwd)
 PY=${PYTHON:-/usr/bin/python3}
 
@@ -40,7 +40,10 @@ fails_with 1 "tis-fit: rows without names" tis-fit "$T/nohead.tsv"
 fails_with 2 "tis-fit: --threshold without --cusps" tis-fit --threshold 1e-4 "$T/a.tsv"
 
 # tis-info tables: time from frames, per-cell and per-junction rows
-tis-anneal --stage 0.3:3 --relax 0 --every 1 "$T/h.mesh" >"$T/frames"
+tis-anneal --stage 0.3:3 --relax 0 --every 1 --log "$T/log.tsv" "$T/h.mesh" >"$T/frames"
+ok "tis-anneal --log: the input's history and this command once, then names" test "$(grep -v '^[0-9]' "$T/log.tsv")" = \
+	"$(printf '# tis-hex 6 6 --p0 3.6\n# tis-anneal --stage 0.3:3 --relax 0 --every 1 --log %s %s\nt\tf6\tenergy\tt1' "$T/log.tsv" "$T/h.mesh")"
+ok "frames carry their time as a state t line" test "$(grep -c '^state t ' "$T/frames")" = 2
 ok "--every 1 over 3 units: frames at (the first step after) 1, 2 and the final mesh at 3, none twice" \
 	test "$(tis-info --tsv "$T/frames" | rows | awk '{ printf "%.1f ", $13 }')" = "1.0 2.0 3.0 "
 tis-info --cells "$T/h.mesh" >"$T/cells"
