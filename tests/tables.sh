@@ -5,7 +5,7 @@
 # and tis-fit tables by column name; the README's two examples run as
 # written.  pandas and gnuplot tests are skipped when they are missing.
 . "$(dirname "$0")/lib.sh"
-plan 24
+plan 25
 top=$(cd "$(dirname "$0")/.." && pwd)
 PY=${PYTHON:-/usr/bin/python3}
 
@@ -33,6 +33,9 @@ ok "tis-fit: one line of column names after it" \
 awk -F '\t' -v OFS='\t' '$1 == $1 + 0 && $6 == "out" && !d++ { $10 = 1e-3 } 1' "$T/a.tsv" >"$T/bad.tsv"
 ok "--max-fres leaves out the points above it" test "$(tis-fit --max-fres 1e-6 "$T/bad.tsv" | rows | cut -f6) $(tis-fit "$T/bad.tsv" | rows | cut -f6,15)" = \
 	"40 $(printf '41\t0.001')"
+awk -F '\t' -v OFS='\t' '$1 == $1 + 0 && $6 == "out" { last = NR } { line[NR] = $0 }
+	END { for (i = 1; i <= NR; i++) { if (i == last) { $0 = line[i]; $10 = 1e-3; line[i] = $0 } print line[i] } }' "$T/a.tsv" >"$T/far.tsv"
+ok "fres_max counts only the points in the fit window" test "$(tis-fit --window 0.05 "$T/far.tsv" | rows | awk '{ print ($15 < 1e-9) }') $(tis-fit "$T/far.tsv" | rows | cut -f15)" = "1 0.001"
 printf 'p0\tj\tl0\tdir\tl\n3.6\t0\t0.6\trest\t0.6\n' >"$T/nof.tsv"
 fails_with 1 "tis-fit: names without column f" tis-fit "$T/nof.tsv"
 rows "$T/a.tsv" >"$T/nohead.tsv"

@@ -112,7 +112,7 @@ struct curve {
 	long j, a, b;
 	int n, cap;
 	double *l, *f;
-	double fres_max; /* of the points kept, NAN when the table has none */
+	double fres_max; /* of the points fitted, NAN when the table has none */
 	long line;     /* its first input line, for messages */
 };
 
@@ -349,7 +349,8 @@ int main(int argc, char **argv)
 		double fres = col[C_FRES] >= 0 ? num(fld[col[C_FRES]], "fres", line) : NAN;
 		if (!use || fres > o.max_fres)
 			continue;
-		if (!isnan(fres) && (isnan(c.fres_max) || fres > c.fres_max))
+		if (!isnan(fres) && (isnan(c.fres_max) || fres > c.fres_max) &&
+		    (o.cusps || fit_in_window(l - l0, o.window)))
 			c.fres_max = fres;
 		int cap = c.cap;
 		grow((void **)&c.l, &c.cap, c.n + 1, sizeof *c.l);
