@@ -5,7 +5,7 @@
 # own lengths from the points (the periodic unwrapping); the .pvd's frame
 # times.  The VTK checks are skipped when python3-vtk9 is missing.
 . "$(dirname "$0")/lib.sh"
-plan 12
+plan 13
 top=$(cd "$(dirname "$0")/.." && pwd)
 PY=${PYTHON:-/usr/bin/python3}
 
@@ -90,6 +90,16 @@ elif what == 'inbox':
     P = v2n(pd.GetPoints().GetData()); V = v2n(pd.GetPointData().GetArray('vertex'))
     nv = V.max() + 1
     assert (P[:nv, 0] >= 0).all() and (P[:nv, 0] < lx).all() and (P[:nv, 1] >= 0).all() and (P[:nv, 1] < ly).all()
+elif what == 'tension':
+    # tension = 2 (P1 - p0) + 2 (P2 - p0) + dg from the file's own cell
+    # perimeters and the junction table's cells; some dg nonzero
+    pd = read(sys.argv[2]); names, t = table(sys.argv[3]); p0 = float(sys.argv[4])
+    nj = pd.GetNumberOfLines(); cd = pd.GetCellData()
+    per = v2n(cd.GetArray('perimeter'))[nj:]
+    ten = v2n(cd.GetArray('tension'))[:nj]; dg = v2n(cd.GetArray('dg'))[:nj]
+    c1 = t[:, names.index('c1')].astype(int); c2 = t[:, names.index('c2')].astype(int)
+    assert np.allclose(ten, 2 * (per[c1] - p0) + 2 * (per[c2] - p0) + dg, rtol=0, atol=1e-9)
+    assert (dg != 0).sum() > 0
 elif what == 'pvd':
     root = ET.parse(sys.argv[2]).getroot()
     ds = root.find('Collection').findall('DataSet')
@@ -108,10 +118,14 @@ PY
 		"$PY" "$T/check.py" junctions "$T/s.vtp" "$T/junc.tsv"
 	ok "every point is its vertex or a periodic image of it" \
 		"$PY" "$T/check.py" points "$T/s.vtp" $(awk '$1 == "box" { print $2, $3 }' "$T/s.mesh")
+	awk '{ print } /^end/ { exit }' "$T/frames" >"$T/frame0.mesh"
+	tis-info --junctions "$T/frame0.mesh" >"$T/junc0.tsv"
+	ok "a frame with active tensions: tension = 2 (P1 - p0) + 2 (P2 - p0) + dg from the file's perimeters" \
+		"$PY" "$T/check.py" tension "$T/run/f-0000.vtp" "$T/junc0.tsv" 3.6
 	ok "the .pvd lists every frame at its time (tis-info's t), files VTK reads" \
 		"$PY" "$T/check.py" pvd "$T/run/f.pvd" "$T/times"
 else
-	for i in 1 2 3 4; do pass "# skip python3-vtk9 missing"; done
+	for i in 1 2 3 4 5; do pass "# skip python3-vtk9 missing"; done
 fi
 
 # a mesh whose coordinates lie outside the box (readers accept them):
