@@ -29,7 +29,7 @@ set -eu
 # by cat (their first column is a number); BODY the rows of one table.
 ROWS='$1 == $1 + 0'
 BODY='/^#/ || !h++ { next } 1'
-PROV="bench/disorder-a1.sh $*"
+PROV="bench/disorder-a1.sh${*:+ $*}"
 
 OUT=${OUT:-bench/out/disorder-a1}
 SAMPLES_DIR=${SAMPLES_DIR:-samples}
