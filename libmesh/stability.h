@@ -1,6 +1,6 @@
 /* stability.h - linear stability of active junctions at a force-free state.
  *
- * One junction j = (a, b) active in a passive tissue (DESIGN.md, "Active
+ * One junction j = (a, b) active in a passive tissue (doc/DESIGN.md, "Active
  * junctions: simulation and stability"; M. Krajnc, T. Stern, C. Zankoc,
  * "Active instability and nonlinear dynamics of cell-cell junctions",
  * arXiv:2101.07058, eqs. 1-2).  With H the Hessian of W, g = grad l_j
