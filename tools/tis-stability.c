@@ -72,8 +72,11 @@ static double *positive_list(const char *opt, const char *arg, int *n, int inver
 {
 	double *v = cli_double_list(opt, arg, n);
 	for (int i = 0; i < *n; i++) {
-		if (!(v[i] > 0))
-			cli_usage_error("%s: every value must be > 0 (got %g)", opt, v[i]);
+		if (!(v[i] > 0)) {
+			double bad = v[i];
+			free(v);   /* exit checks for leaks under ASan */
+			cli_usage_error("%s: every value must be > 0 (got %g)", opt, bad);
+		}
 		if (invert)
 			v[i] = 1 / v[i];
 	}
@@ -129,9 +132,12 @@ static struct opts parse(int argc, char **argv)
 			free(o.gamma0);
 			o.gamma0 = cli_double_list("--gamma0", optarg, &o.ngamma0);
 			for (int i = 0; i < o.ngamma0; i++)
-				if (!(o.gamma0[i] >= 0))
-					cli_usage_error("--gamma0: every value must be >= 0 (got %g)",
-					                o.gamma0[i]);
+				if (!(o.gamma0[i] >= 0)) {
+					double bad = o.gamma0[i];
+					free(o.gamma0);
+					free(o.rate);
+					cli_usage_error("--gamma0: every value must be >= 0 (got %g)", bad);
+				}
 			break;
 		case O_P0: o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
 		case O_KA: o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
