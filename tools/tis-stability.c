@@ -267,7 +267,7 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 	print_header(o, m);
 	for (int k = 0; k < count && !cli_stop; k++) {
 		stab_jn_set(sd, m, sel[k], jn);
-		for (int r = 0; r < o->nrate; r++) {
+		for (int r = 0; r < o->nrate && !cli_stop; r++) {
 			double rate = o->rate[r];
 			if (o->gamma0 == NULL) {
 				stab_crit c;
@@ -283,7 +283,7 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 				putchar('\n');
 				continue;
 			}
-			for (int g = 0; g < o->ngamma0; g++) {
+			for (int g = 0; g < o->ngamma0 && !cli_stop; g++) {
 				double re = NAN, im = NAN;
 				if (nneg == 0 && stab_leading(jn, rate, o->gamma0[g], &re, &im) != MESH_OK)
 					cli_die(EXIT_NOCONV, "junction %d, rate %g, gamma0 %g: no root found",
@@ -335,6 +335,7 @@ int main(int argc, char **argv)
 	free(o.rate);
 	free(o.gamma0);
 	if (cli_stop) {
+		printf("# interrupted: the table ends early\n");
 		fflush(stdout);
 		cli_die(EXIT_NOCONV, "interrupted: the table ends early");
 	}
