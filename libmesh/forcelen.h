@@ -103,7 +103,8 @@ double fl_force(const mesh *m, const double *r, const model *p, int j,
  *
  * H the Hessian of W at m->r and H^+ its pseudo-inverse on the modes with
  * |eigenvalue| > zerotol * largest.  One symmetric eigendecomposition
- * (GSL, O(nv^3): about 2 s for 648 vertices) serves every junction.  If g
+ * (LAPACK dsyevd, mesh_hessian_eigen; O(nv^3): about 0.3 s for 648
+ * vertices) serves every junction.  If g
  * has weight on the zero modes beyond the two translations, the length
  * can change at no cost to second order and a1 = 0 (a floppy junction).
  * The answer means something only at a force-balanced state with no

@@ -43,9 +43,10 @@
 #define TIS_STABILITY_H
 
 #include "geom.h"
+#include "hessian.h"
 #include "mesh.h"
 
-enum stab_solver { STAB_LAPACK, STAB_GSL };
+enum stab_solver { STAB_LAPACK = HESS_EIG_LAPACK, STAB_GSL = HESS_EIG_GSL };
 
 typedef struct {
 	double ftol;      /* largest vertex force of a force-balanced mesh

@@ -46,9 +46,6 @@ static const char help[] =
 
 enum { SEL_ALL, SEL_PAIR, SEL_INDEX, SEL_LIST };
 
-/* OpenBLAS's own call (the library is linked by name). */
-void openblas_set_num_threads(int n);
-
 struct opts {
 	int sel, nsel;
 	long va, vb, index;
@@ -306,10 +303,6 @@ int main(int argc, char **argv)
 {
 	cli_init("tis-stability", usage, argc, argv);
 	struct opts o = parse(argc, argv);
-	/* one BLAS thread unless asked: measured as fast at these sizes on a
-	 * shared machine, where waiting threads spin (bench/RESULTS.md) */
-	if (getenv("OPENBLAS_NUM_THREADS") == NULL)
-		openblas_set_num_threads(1);
 	cli_catch_signals();
 	FILE *in = cli_open(o.input);
 	long line = 0;
