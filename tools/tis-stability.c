@@ -187,19 +187,20 @@ static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 {
 	if (o->sel == SEL_LIST)
 		return read_list(o->list, m, count);
+	/* checked before anything is allocated: no leak on the way out */
+	int j = 0;
+	if (o->sel == SEL_PAIR)
+		j = cli_junction(m, o->va, o->vb);
+	else if (o->sel == SEL_INDEX && o->index >= m->nj)
+		cli_die(EXIT_INPUT, "--index %ld: the mesh has %d junctions", o->index, m->nj);
+	else if (o->sel == SEL_INDEX)
+		j = (int)o->index;
 	int n = o->sel == SEL_ALL ? m->nj : 1;
 	int *sel = malloc(((size_t)n + 1) * sizeof *sel);
 	if (sel == NULL)
 		cli_die(EXIT_INPUT, "out of memory");
-	if (o->sel == SEL_PAIR)
-		sel[0] = cli_junction(m, o->va, o->vb);
-	else if (o->sel == SEL_INDEX) {
-		if (o->index >= m->nj)
-			cli_die(EXIT_INPUT, "--index %ld: the mesh has %d junctions", o->index, m->nj);
-		sel[0] = (int)o->index;
-	} else
-		for (int j = 0; j < n; j++)
-			sel[j] = j;
+	for (int k = 0; k < n; k++)
+		sel[k] = o->sel == SEL_ALL ? k : j;
 	*count = n;
 	return sel;
 }
@@ -251,14 +252,17 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 			}
 		return 0;
 	}
+	int count;
+	int *sel = select_junctions(o, m, &count);
 	stab_decomp *sd;
 	mesh_error err;
-	if (stab_decomp_alloc(m, p, &o->so, &sd, &err) != MESH_OK)
+	if (stab_decomp_alloc(m, p, &o->so, &sd, &err) != MESH_OK) {
+		free(sel);
 		cli_die(EXIT_INPUT, "%s", err.msg);
-	int n, count, nneg = stab_decomp_nneg(sd);
+	}
+	int n, nneg = stab_decomp_nneg(sd);
 	stab_decomp_eigenvalues(sd, &n);
 	stab_jn *jn = stab_jn_alloc(n);
-	int *sel = select_junctions(o, m, &count);
 	if (jn == NULL)
 		cli_die(EXIT_INPUT, "out of memory");
 	print_header(o, m);
