@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "order.h"
 #include "voronoi.h"
 
 static const char usage[] =
@@ -131,6 +132,9 @@ int main(int argc, char **argv)
 	mesh *m;
 	if (voronoi_tissue(o.lx, o.ly, n, xy, &m, NULL, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
+	/* CGAL's enumeration has no locality; the kernels want it */
+	if (mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
 	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
 	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
 		cli_die(EXIT_INPUT, "out of memory");
