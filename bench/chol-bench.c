@@ -4,6 +4,9 @@
  *   chol-bench perturb AMP SEED <MESH >MESH
  *       every coordinate displaced uniformly in [-AMP, AMP) (the LCG of
  *       relax-bench.c), wrapped back into the box
+ *   chol-bench analyze MESH
+ *       only the analysis: seconds and nnz(L), for tissues whose factor
+ *       would not fit in memory
  *   chol-bench time MESH [P0 [KIND]]
  *       the Hessian at MESH's positions: seconds to assemble, analyze
  *       (ordering and symbolic), precondition (spchol_precond from no
@@ -62,8 +65,9 @@ int main(int argc, char **argv)
 		mesh_free(m);
 		return st == MESH_OK && fflush(stdout) == 0 ? 0 : 1;
 	}
-	if (argc < 3 || argc > 5 || strcmp(argv[1], "time") != 0) {
-		fprintf(stderr, "usage: chol-bench perturb AMP SEED <MESH >MESH | chol-bench time MESH [P0 [KIND]]\n");
+	int only = argc == 3 && strcmp(argv[1], "analyze") == 0;
+	if (!only && (argc < 3 || argc > 5 || strcmp(argv[1], "time") != 0)) {
+		fprintf(stderr, "usage: chol-bench perturb AMP SEED <MESH >MESH | chol-bench analyze MESH | chol-bench time MESH [P0 [KIND]]\n");
 		return 2;
 	}
 	FILE *f = fopen(argv[2], "r");
@@ -90,6 +94,11 @@ int main(int argc, char **argv)
 	double t2 = now();
 	if (c == NULL)
 		return 1;
+	if (only) {
+		printf("cells\tvars\tnnzA\tnnzL\tassemble_s\tanalyze_s\n%d\t%d\t%d\t%ld\t%.4g\t%.4g\n",
+		       m->nc, hs->h->n, hs->h->nnz, spchol_nnz(c), t1 - t0, t2 - t1);
+		return 0;
+	}
 	double s = 0;
 	int st = spchol_precond(c, hs->h, &s);
 	double t3 = now();

@@ -43,6 +43,30 @@ static int cmp_key(const void *pa, const void *pb)
 	return (a->k > b->k) - (a->k < b->k);
 }
 
+int order_points(int n, double *xy, double lx, double ly)
+{
+	if (n < 2)
+		return MESH_OK;
+	struct key *pk = malloc((size_t)n * sizeof *pk);
+	double *tmp = malloc(2 * (size_t)n * sizeof *tmp);
+	if (pk == NULL || tmp == NULL) {
+		free(pk);
+		free(tmp);
+		return MESH_ENOMEM;
+	}
+	for (int i = 0; i < n; i++)
+		pk[i] = (struct key){ order_hilbert(xy[2 * i], xy[2 * i + 1], lx, ly), i };
+	qsort(pk, (size_t)n, sizeof *pk, cmp_key);
+	for (int i = 0; i < n; i++) {
+		tmp[2 * i] = xy[2 * pk[i].k];
+		tmp[2 * i + 1] = xy[2 * pk[i].k + 1];
+	}
+	memcpy(xy, tmp, 2 * (size_t)n * sizeof *tmp);
+	free(pk);
+	free(tmp);
+	return MESH_OK;
+}
+
 /* newk[k]: the new number of cell k, by the curve position of the mean of
  * its unwrapped corners. */
 static int cell_order(const mesh *m, int *newk)
@@ -83,13 +107,13 @@ static void first_seen(const int *list, size_t n, int count, int *newid)
 
 int mesh_order_spatial(mesh *m, int what)
 {
-	if (what != MESH_ORDER_CELLS && what != MESH_ORDER_ALL)
+	if (what < MESH_ORDER_CELLS || what > MESH_ORDER_ALL)
 		return MESH_EDOM;
 	const int nc = m->nc, nv = m->nv, nj = m->nj;
 	if (nc < 1)
 		return MESH_OK;
 	const size_t nk = (size_t)m->coff[nc];
-	const int all = what == MESH_ORDER_ALL;
+	const int all = (what & MESH_ORDER_VERTICES) != 0;
 	int *newk = malloc((size_t)nc * sizeof *newk);
 	int *coff = malloc(((size_t)nc + 1) * sizeof *coff);
 	int *cv = malloc(nk * sizeof *cv), *cj = malloc(nk * sizeof *cj);
@@ -103,9 +127,15 @@ int mesh_order_spatial(mesh *m, int what)
 	double *dg = all && m->dg ? malloc(((size_t)nj + 1) * sizeof *dg) : NULL;
 	int st = MESH_ENOMEM;
 	if (!newk || !coff || !cv || !cj || !cimg || !jc ||
-	    (all && (!newv || !newj || !r || !jv || !jimg || (m->dg && !dg))) ||
-	    cell_order(m, newk) != 0)
+	    (all && (!newv || !newj || !r || !jv || !jimg || (m->dg && !dg))))
 		goto out;
+	if (what & MESH_ORDER_CELLS) {
+		if (cell_order(m, newk) != 0)
+			goto out;
+	} else {
+		for (int k = 0; k < nc; k++)
+			newk[k] = k;
+	}
 	int *cell_of = malloc((size_t)nc * sizeof *cell_of);  /* [new] = old */
 	if (cell_of == NULL)
 		goto out;

@@ -20,18 +20,25 @@
  * curve of 2^16 x 2^16 squares covering the box. */
 uint32_t order_hilbert(double x, double y, double lx, double ly);
 
+/* Sort n points xy (2n values) along the curve, in place (ties keep their
+ * order).  MESH_ENOMEM. */
+int order_points(int n, double *xy, double lx, double ly);
+
 enum {
-	MESH_ORDER_CELLS = 1,  /* renumber the cells only */
-	MESH_ORDER_ALL = 2     /* cells, then vertices and junctions */
+	MESH_ORDER_CELLS = 1,     /* the cells */
+	MESH_ORDER_VERTICES = 2,  /* vertices and junctions, by first appearance
+	                             along the cells as they are numbered */
+	MESH_ORDER_ALL = 3        /* both: cells first */
 };
 
-/* Renumber m along the Hilbert curve.  The geometry, each cell's corner
- * order and each junction's orientation are unchanged (so energies and
- * gradients are, up to the order of their sums); junction tensions move
- * with their junctions.  MESH_ORDER_CELLS keeps every vertex and junction
- * number (per-junction arrays a caller holds stay valid).  Ties are
- * broken by the old numbers: the same mesh gives the same order.
- * MESH_EDOM for an unknown what; MESH_ENOMEM, with the mesh unchanged. */
+/* Renumber m along the Hilbert curve (what: MESH_ORDER_*).  The geometry,
+ * each cell's corner order and each junction's orientation are unchanged
+ * (so energies and gradients are, up to the order of their sums); junction
+ * tensions move with their junctions.  MESH_ORDER_CELLS keeps every vertex
+ * and junction number (per-junction arrays a caller holds stay valid),
+ * MESH_ORDER_VERTICES every cell number.  Ties are broken by the old
+ * numbers: the same mesh gives the same order.  MESH_EDOM for an unknown
+ * what; MESH_ENOMEM, with the mesh unchanged. */
 int mesh_order_spatial(mesh *m, int what);
 
 #endif

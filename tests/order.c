@@ -23,7 +23,7 @@ static double spread(const mesh *m)
 
 int main(void)
 {
-	tap_plan(9);
+	tap_plan(11);
 	/* 1. the curve: quadrant order (0,0) (0,1) (1,1) (1,0), and on a
 	 * 64 x 64 grid of square centres, each square's successor along the
 	 * curve is one of its four neighbours */
@@ -95,7 +95,29 @@ int main(void)
 	   memcmp(u2->cv, u->cv, u->coff[u->nc] * sizeof *u->cv) == 0 &&
 	   memcmp(u2->jv, u->jv, 2 * u->nj * sizeof *u->jv) == 0,
 	   "a second renumbering changes nothing");
-	ok(mesh_order_spatial(u2, 0) == MESH_EDOM, "unknown what refused");
+	ok(mesh_order_spatial(u2, 0) == MESH_EDOM && mesh_order_spatial(u2, 4) == MESH_EDOM,
+	   "unknown what refused");
+	/* vertices only: every cell keeps its number and its polygon */
+	mesh *u3 = mesh_copy(m);
+	int same = mesh_order_spatial(u3, MESH_ORDER_VERTICES) == MESH_OK &&
+		   memcmp(u3->coff, m->coff, (m->nc + 1) * sizeof *m->coff) == 0;
+	for (int i = 0; same && i < m->coff[m->nc]; i++)
+		same = u3->r[2 * u3->cv[i]] == m->r[2 * m->cv[i]] &&
+		       u3->r[2 * u3->cv[i] + 1] == m->r[2 * m->cv[i] + 1];
+	ok(same, "vertices only: the same cells in the same order");
+	mesh_free(u3);
+	/* points: sorted along the curve, the same multiset */
+	double pts[2 * 900], sx0 = 0, sx1 = 0;
+	memcpy(pts, xy, sizeof pts);
+	int sorted = order_points(900, pts, 30, 30) == MESH_OK;
+	for (int i = 0; i < 900; i++) {
+		sx0 += xy[2 * i] * xy[2 * i + 1];
+		sx1 += pts[2 * i] * pts[2 * i + 1];
+		if (i > 0)
+			sorted &= order_hilbert(pts[2 * i - 2], pts[2 * i - 1], 30, 30) <=
+				  order_hilbert(pts[2 * i], pts[2 * i + 1], 30, 30);
+	}
+	ok(sorted && fabs(sx0 - sx1) < 1e-9 * fabs(sx0), "order_points sorts along the curve, same points");
 	free(g0);
 	free(g1);
 	energy_ws_free(w);
