@@ -254,11 +254,6 @@ int main(int argc, char **argv)
 		cli_die(EXIT_INPUT, "out of memory");
 	cli_history(m);
 	model p = model_from_mesh(m);
-	/* numbered along a Hilbert curve for the kernels' locality; the
-	 * dynamics keeps the cells so (mesh_sort_cells) and the output is
-	 * renumbered the same way, since T1s and flow scatter the rest */
-	if (mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)
-		cli_die(EXIT_INPUT, "out of memory");
 
 	struct run u = { .o = &o, .m = m, .tty = isatty(2) };
 	for (int i = 0; i < o.nstage; i++)
@@ -344,6 +339,11 @@ int main(int argc, char **argv)
 	}
 	if (o.every > 0)
 		printf("# %s final t %.10g\n", cli_name, c.t);
+	/* The dynamics keeps the cells along a Hilbert curve (mesh_sort_cells)
+	 * but not the vertices and junctions, which flow and T1s scatter: the
+	 * output is numbered along the curve for the programs reading it.
+	 * The input is left as it is (tis-hex and tis-voronoi write meshes
+	 * with locality), so a trajectory does not depend on this. */
 	if (mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)
 		cli_die(EXIT_INPUT, "out of memory");
 	cli_write_mesh(m);
