@@ -336,6 +336,12 @@ spchol *spchol_analyze(const spsym *a)
 	return spchol_analyze_kind(a, SPCHOL_AUTO);
 }
 
+double spchol_bytes(const spchol *c)
+{
+	/* the supernodal blocks whole, explicit zeros too */
+	return c->big ? 8 * (double)c->L->xsize : 12 * (double)c->bp[c->nsn];
+}
+
 long spchol_nnz(const spchol *c)
 {
 	return (long)c->cm.lnz;

@@ -50,6 +50,9 @@ spchol *spchol_analyze(const spsym *a);
 typedef enum { SPCHOL_AUTO, SPCHOL_OWN, SPCHOL_CHOLMOD } spchol_kind;
 spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind);
 void spchol_free(spchol *c);
+/* Bytes the numeric factorization holds (8 per entry of L on CHOLMOD's
+ * path, 12 on the hand-written one), known from the analysis alone. */
+double spchol_bytes(const spchol *c);
 /* Nonzeros of L as CHOLMOD's analysis counts them (a measure of its cost:
  * a solve is ~4 flops per entry). */
 long spchol_nnz(const spchol *c);

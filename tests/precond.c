@@ -60,7 +60,7 @@ static double hessian_mismatch(const mesh *m, const model *p)
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(45);
+	tap_plan(48);
 	mesh_error err;
 
 	/* 1. Sparse Hessian = dense Hessian, on a honeycomb across the box
@@ -203,9 +203,10 @@ int main(void)
 	lattice_honeycomb(18, 18, &big, &err);
 	double p0s[] = { 3.6, 3.7, 3.72 };
 	for (int i = 0; i < 3; i++) {
-		mesh *a = mesh_copy(big), *b;
+		mesh *a = mesh_copy(big), *b, *c;
 		perturb(a, 0.05, 50 + i);
 		b = mesh_copy(a);
+		c = mesh_copy(a);
 		model p = { p0s[i], 100 };
 		min_opts o;
 		min_opts_init(&o);
@@ -225,8 +226,16 @@ int main(void)
 		   "p0 %.2f: same minimum with and without preconditioner (%.2g apart; %ld vs %ld "
 		   "Hessian products, %ld factorizations)", p.p0, d, ra.nhessvec, rb.nhessvec,
 		   ra.npcsetup);
+		/* a factor over the memory bound is not built: plain CG */
+		min_opts_init(&o);
+		o.pcmem = 1;
+		min_report rc;
+		int sc = mesh_relax(c, &p, &o, &rc);
+		ok(sc == sb && rc.nhessvec == rb.nhessvec && rc.f == rb.f,
+		   "p0 %.2f: pcmem 1 byte: plain CG's %ld products", p.p0, rc.nhessvec);
 		mesh_free(a);
 		mesh_free(b);
+		mesh_free(c);
 	}
 	mesh_free(big);
 	mesh_free(hex);
