@@ -347,10 +347,10 @@ static struct result run(const struct opts *o, mesh *m, const model *p,
 	if (r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE) {
 		char buf[64], rs[OU_STATE_LEN];
 		snprintf(buf, sizeof buf, "%.17g", r.t_end);
-		if (mesh_state_set(m, "active.t", buf) != MESH_OK ||
+		if (mesh_state_set(m, "active_t", buf) != MESH_OK ||
 		    act_rng_get(u.a, rs, sizeof rs) != MESH_OK ||
-		    (rs[0] && mesh_state_set(m, "active.rng", rs) != MESH_OK))
-			cli_die(EXIT_INPUT, "out of memory");
+		    (rs[0] && mesh_state_set(m, "active_rng", rs) != MESH_OK))
+			cli_die(EXIT_INPUT, "cannot record the run state");
 	} else {
 		mesh_state_clear(m);
 	}
@@ -365,15 +365,15 @@ static struct result run(const struct opts *o, mesh *m, const model *p,
 static double start(const struct opts *o, mesh *m, const model *p, const unsigned char *active,
                     char *rng, size_t n)
 {
-	const char *ts = mesh_state_get(m, "active.t");
-	const char *rs = mesh_state_get(m, "active.rng");
+	const char *ts = mesh_state_get(m, "active_t");
+	const char *rs = mesh_state_get(m, "active_rng");
 	double t0 = 0;
 	rng[0] = '\0';
 	if (ts) {
 		char *end;
 		t0 = strtod(ts, &end);
 		if (*end != '\0' || !isfinite(t0))
-			cli_die(EXIT_INPUT, "%s: bad state active.t '%s'", cli_input_name(o->input), ts);
+			cli_die(EXIT_INPUT, "%s: bad state active_t '%s'", cli_input_name(o->input), ts);
 		if (rs)
 			snprintf(rng, n, "%s", rs);
 	}
