@@ -68,6 +68,43 @@ static void euler_t1(void *data, const dyn *d, int j, const int lose[2], const i
 		a->hook(a->hook_data, c.t, j, lose, gain, lbefore);
 }
 
+/* A fresh Euler integrator (dynamics.c) at the current state, time and
+ * noise stream. */
+static int euler_dyn(act *a, mesh_error *err)
+{
+	const act_opts *o = &a->o;
+	char rng[OU_STATE_LEN] = "";
+	if (a->d) {
+		dyn_rng_get(a->d, rng, sizeof rng);
+		dyn_free(a->d);
+		a->d = NULL;
+	}
+	dyn_opts d;
+	dyn_opts_init(&d);
+	d.mode = DYN_FEEDBACK;
+	d.dt_max = o->dt_max;
+	d.dr_max = o->dr_max;
+	d.t1_length = o->t1_length;
+	d.t1_new = o->t1_new;
+	d.tau = o->tau;
+	d.sigma = o->sigma;
+	d.gamma0 = o->gamma0;
+	/* the collapse of an active junction is found by the observer; this
+	 * only keeps a passive one from passing through zero */
+	d.l_stop = 1e-12;
+	int st = dyn_alloc(a->m, &a->p, &d, a->seed, &a->d, err);
+	if (st != MESH_OK)
+		return st;
+	if ((a->na < a->m->nj && dyn_set_active(a->d, a->active) != MESH_OK) ||
+	    (rng[0] && dyn_rng_set(a->d, rng) != MESH_OK))
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	dyn_set_time(a->d, a->t);
+	dyn_set_t1_hook(a->d, euler_t1, a);
+	a->nt1_base = a->c.nt1;
+	a->refused_base = a->c.nt1_refused;
+	return MESH_OK;
+}
+
 int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *active,
               double t0, unsigned long seed, act **out, mesh_error *err)
 {
@@ -103,32 +140,16 @@ int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *a
 			m->dg[j] = 0;
 	}
 	if (o->scheme == ACT_EULER) {
-		dyn_opts d;
-		dyn_opts_init(&d);
-		d.mode = DYN_FEEDBACK;
-		d.dt_max = o->dt_max;
-		d.dr_max = o->dr_max;
-		d.t1_length = o->t1_length;
-		d.t1_new = o->t1_new;
-		d.tau = o->tau;
-		d.sigma = o->sigma;
-		d.gamma0 = o->gamma0;
-		/* the collapse of an active junction is found by the observer;
-		 * this only keeps a passive one from passing through zero */
-		d.l_stop = 1e-12;
 		a->snap_r = malloc(2 * (size_t)m->nv * sizeof *a->snap_r);
 		a->snap_dg = malloc(nj * sizeof *a->snap_dg);
 		a->jprev = malloc(2 * nj * sizeof *a->jprev);
 		if (!a->snap_r || !a->snap_dg || !a->jprev)
 			goto nomem;
-		if ((st = dyn_alloc(m, p, &d, seed, &a->d, err)) != MESH_OK) {
+		a->seed = seed;
+		if ((st = euler_dyn(a, err)) != MESH_OK) {
 			act_free(a);
 			return st;
 		}
-		if (active && dyn_set_active(a->d, a->active) != MESH_OK)
-			goto nomem;
-		dyn_set_time(a->d, t0);
-		dyn_set_t1_hook(a->d, euler_t1, a);
 	} else if ((st = bdf_alloc(a, err)) != MESH_OK) {
 		act_free(a);
 		return st;
@@ -308,8 +329,10 @@ static int euler_obs(dyn *d, void *data)
 	a->t = c.t;
 	a->c.nstep++;
 	a->c.nfev++;
-	a->c.nt1 = c.nt1;
-	a->c.nt1_refused = c.nt1_refused;
+	/* the integrator is made again after T1s (canonical): its counts
+	 * start from zero */
+	a->c.nt1 = a->nt1_base + c.nt1;
+	a->c.nt1_refused = a->refused_base + c.nt1_refused;
 	if (a->o.t1_length == 0) {
 		/* the collapse event: the first step at which an active junction
 		 * is shorter than l_collapse; if that step carried it through
@@ -339,6 +362,47 @@ static int euler_obs(dyn *d, void *data)
 	return 0;
 }
 
+/* Renumber the junctions as reading the written mesh would (mesh_build
+ * from the cells), so that a run continued from that mesh has the same
+ * junction numbers, and so the same noise per junction and the same T1
+ * order; the active set and tensions follow their vertex pairs. */
+static int canonical(act *a, mesh_error *err)
+{
+	mesh *m = a->m;
+	int *pairs = malloc(2 * (size_t)(a->na ? a->na : 1) * sizeof *pairs);
+	if (pairs == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	for (int k = 0; k < a->na; k++) {
+		pairs[2 * k] = m->jv[2 * a->aj[k]];
+		pairs[2 * k + 1] = m->jv[2 * a->aj[k] + 1];
+	}
+	mesh_error e2;
+	int st = mesh_build(m, NULL, &e2);
+	if (st != MESH_OK) {
+		free(pairs);
+		return mesh_error_set(err, 0, st, "rebuilding the mesh after T1s: %s", e2.msg);
+	}
+	if (mesh_tension_alloc(m) != MESH_OK) {
+		free(pairs);
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
+	memset(a->active, 0, (size_t)m->nj);
+	for (int k = 0; k < a->na; k++)
+		a->active[mesh_junction_find(m, pairs[2 * k], pairs[2 * k + 1])] = 1;
+	free(pairs);
+	a->na = 0;
+	for (int j = 0; j < m->nj; j++)
+		if (a->active[j])
+			a->aj[a->na++] = j;
+	return euler_dyn(a, err);
+}
+
+/* The Euler run goes in segments that end at multiples of ACT_CHECKPOINT
+ * (the last step of each shortened to land there).  A stop request is
+ * honoured at the next one, and with T1s on each begins with the junction
+ * numbers of a freshly read mesh and a fresh integrator: what a run
+ * continued from the mesh written there does, so that it goes on bit for
+ * bit as the uninterrupted run. */
 static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
                      mesh_error *err)
 {
@@ -351,22 +415,34 @@ static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end 
 			act_jvec(m, m->r, a->aj[k], a->jprev + 2 * k);
 		a->have_prev = 1;
 	}
-	mesh_error e2;
-	int st = dyn_run(a->d, t_end, stop, euler_obs, a, &e2);
-	if (st == MESH_ENOMEM)
-		return mesh_error_set(err, 0, st, "out of memory");
-	if (st != MESH_OK) {
-		/* non-finite forces (the state before the step is finite in r,
-		 * but its tensions may not be) or a passive junction collapsed */
-		if (state_finite(a) && strstr(e2.msg, "collapsed")) {
-			a->why = ACT_END_COLLAPSE;
-		} else {
-			restore(a);
-			a->why = ACT_END_NONFINITE;
-			mesh_error_set(err, 0, MESH_EDOM, "%s", e2.msg);
+	while (a->t < t_end) {
+		double seg = (floor(a->t / ACT_CHECKPOINT) + 1) * ACT_CHECKPOINT;
+		long nt1 = a->c.nt1;
+		mesh_error e2;
+		int st = dyn_run(a->d, seg < t_end ? seg : t_end, NULL, euler_obs, a, &e2);
+		if (st == MESH_ENOMEM)
+			return mesh_error_set(err, 0, st, "out of memory");
+		if (st != MESH_OK) {
+			/* non-finite forces (the state before the step is finite
+			 * in r, but its tensions may not be) or a passive
+			 * junction collapsed */
+			if (state_finite(a) && strstr(e2.msg, "collapsed")) {
+				a->why = ACT_END_COLLAPSE;
+			} else {
+				restore(a);
+				a->why = ACT_END_NONFINITE;
+				mesh_error_set(err, 0, MESH_EDOM, "%s", e2.msg);
+			}
+			break;
 		}
-	} else if (a->why == ACT_END_TIME && stop && *stop) {
-		a->why = ACT_END_STOP;
+		if (a->why != ACT_END_TIME)
+			break;
+		if (a->c.nt1 != nt1 && (st = canonical(a, err)) != MESH_OK)
+			return st;
+		if (stop && *stop && a->t < t_end) {
+			a->why = ACT_END_STOP;
+			break;
+		}
 	}
 	*why = a->why;
 	return MESH_OK;

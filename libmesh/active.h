@@ -41,6 +41,10 @@
 
 typedef enum { ACT_EULER, ACT_BDF } act_scheme;
 
+/* Euler runs stop (SIGTERM) and renumber after T1s only at multiples of
+ * this time (active.c). */
+#define ACT_CHECKPOINT 1.0
+
 /* BDF absolute tolerance per unit of rtol (lengths in sqrt(A0)). */
 #define ACT_ATOL_FACTOR 1e-2
 

@@ -397,8 +397,11 @@ static void history_end(mesh *m, const struct opts *o, const struct result *r)
 	int len = snprintf(note, sizeof note, "end %s at t %.10g", act_end_name(r->why), r->t_end);
 	if (r->why == ACT_END_COLLAPSE)
 		len += snprintf(note + len, sizeof note - len, ", t_c %.10g", r->t_c);
-	snprintf(note + len, sizeof note - len, "; %s, %ld steps, %ld force evaluations, %ld T1s",
-		 o->a.scheme == ACT_BDF ? "bdf" : "euler", r->c.nstep, r->c.nfev, r->c.nt1);
+	len += snprintf(note + len, sizeof note - len, "; %s, %ld steps, %ld force evaluations, %ld T1s",
+			o->a.scheme == ACT_BDF ? "bdf" : "euler", r->c.nstep, r->c.nfev, r->c.nt1);
+	if (o->a.scheme == ACT_BDF)
+		snprintf(note + len, sizeof note - len, ", %ld factorizations, %ld GMRES iterations",
+			 r->c.nsetup, r->c.nlin);
 	cli_history_note(m, note);
 }
 
