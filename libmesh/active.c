@@ -284,8 +284,7 @@ static void snapshot(act *a)
 {
 	const mesh *m = a->m;
 	memcpy(a->snap_r, m->r, 2 * (size_t)m->nv * sizeof *m->r);
-	for (int k = 0; k < a->na; k++)
-		a->snap_dg[k] = m->dg[a->aj[k]];
+	memcpy(a->snap_dg, m->dg, (size_t)m->nj * sizeof *m->dg);
 	a->snap_t = a->t;
 	a->snap_nt1 = a->c.nt1;
 }
@@ -298,16 +297,15 @@ static int restore(act *a)
 	if (a->snap_nt1 != a->c.nt1)
 		return 0;
 	memcpy(m->r, a->snap_r, 2 * (size_t)m->nv * sizeof *m->r);
-	for (int k = 0; k < a->na; k++)
-		m->dg[a->aj[k]] = a->snap_dg[k];
+	memcpy(m->dg, a->snap_dg, (size_t)m->nj * sizeof *m->dg);
 	a->t = a->snap_t;
 	return 1;
 }
 
 /* Move every vertex back into the box when one has left it.  The written
- * mesh holds wrapped coordinates, so a run that keeps them wrapped all
- * along computes what a run continued from that mesh computes, bit for
- * bit. */
+ * mesh holds wrapped coordinates; a run that wraps them at every
+ * checkpoint (where a stopped run writes its mesh) computes what a run
+ * continued from that mesh computes, bit for bit. */
 static void keep_wrapped(mesh *m)
 {
 	for (int v = 0; v < m->nv; v++) {
@@ -352,7 +350,6 @@ static int euler_obs(dyn *d, void *data)
 			a->jprev[2 * k + 1] = v[1];
 		}
 	}
-	keep_wrapped(m);
 	snapshot(a);
 	a->have_prev = 1;
 	if (a->obs && a->obs(a, a->obs_data)) {
@@ -437,6 +434,7 @@ static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end 
 		}
 		if (a->why != ACT_END_TIME)
 			break;
+		keep_wrapped(m);
 		if (a->c.nt1 != nt1 && (st = canonical(a, err)) != MESH_OK)
 			return st;
 		if (stop && *stop && a->t < t_end) {
