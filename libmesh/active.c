@@ -11,7 +11,7 @@
 void act_opts_init(act_opts *o)
 {
 	*o = (act_opts){ .scheme = ACT_BDF, .tau = 1, .gamma0 = 0, .sigma = 0,
-			 .rtol = 1e-6, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
+			 .rtol = 1e-9, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
 			 .t1_new = 1e-3, .l_collapse = 1e-3 };
 }
 

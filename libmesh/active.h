@@ -53,7 +53,7 @@ typedef struct {
 	double tau;         /* tau_m = 1/rate (1) */
 	double gamma0;      /* ambient tension (0) */
 	double sigma;       /* noise: long-time s.d. of dg (0; Euler only) */
-	double rtol;        /* BDF relative tolerance (1e-6) */
+	double rtol;        /* BDF relative tolerance (1e-9) */
 	double dt_max;      /* Euler: longest step (1e-3) */
 	double dr_max;      /* Euler: largest vertex move per step (1e-3) */
 	double t1_length;   /* T1 threshold (0: topology fixed) */

@@ -45,7 +45,7 @@ static const char help[] =
 	"  --seed N           random seed (default 1)\n"
 	"  --scheme S         bdf (default) or euler (the paper's; default with noise\n"
 	"                     and in network mode)\n"
-	"  --rtol X           bdf tolerance (default 1e-6)\n"
+	"  --rtol X           bdf tolerance (default 1e-9)\n"
 	"  --dt DT, --dr DR   euler step limits (default 0.001 each)\n"
 	"  --t1 L             T1 threshold (network default 0.01, else 0: off)\n"
 	"  --t1-new L         length of a junction made by a T1 (default 0.001)\n"
