@@ -93,6 +93,22 @@ static gsl_complex leading(const mesh *m, const model *p, int j, double tau, dou
 	return lam;
 }
 
+/* A copy of m0 moved along v (2 nv coordinates, then junction j's
+ * tension), 1e-6 in its largest entry: the linear regime. */
+static mesh *along(const mesh *m0, const double *v, int j)
+{
+	int n = 2 * m0->nv;
+	mesh *m = mesh_copy(m0);
+	mesh_tension_alloc(m);
+	double vmax = 0;
+	for (int i = 0; i <= n; i++)
+		vmax = fmax(vmax, fabs(v[i]));
+	for (int i = 0; i < n; i++)
+		m->r[i] += 1e-6 * v[i] / vmax;
+	m->dg[j] = 1e-6 * v[n] / vmax;
+	return m;
+}
+
 /* Samples of l(t) on a grid, from the observer. */
 typedef struct {
 	int j;
@@ -262,15 +278,7 @@ static void linear(void)
 	for (int side = 0; side < 2; side++) {
 		double g0 = gstar * (side ? 1.05 : 0.95);
 		gsl_complex lam = leading(m0, &p, j, tau, g0, v);
-		/* start along the eigenvector's real part, 1e-6 in size */
-		mesh *m = mesh_copy(m0);
-		mesh_tension_alloc(m);
-		double vmax = 0;
-		for (int i = 0; i <= n; i++)
-			vmax = fmax(vmax, fabs(v[i]));
-		for (int i = 0; i < n; i++)
-			m->r[i] += 1e-6 * v[i] / vmax;
-		m->dg[j] = 1e-6 * v[n] / vmax;
+		mesh *m = along(m0, v, j);
 		act_opts o;
 		act_opts_init(&o);
 		o.tau = tau;
@@ -361,14 +369,7 @@ static void direct(void)
 	double *v = malloc((n + 1) * sizeof *v);
 	gsl_complex lam = leading(m0, &p, j, tau, g0, v);
 	diag("p0 3.70, rate 0.01, gamma0 0.01: leading eigenvalue %.6g %+.3gi", GSL_REAL(lam), GSL_IMAG(lam));
-	mesh *m = mesh_copy(m0);
-	mesh_tension_alloc(m);
-	double vmax = 0;
-	for (int i = 0; i <= n; i++)
-		vmax = fmax(vmax, fabs(v[i]));
-	for (int i = 0; i < n; i++)
-		m->r[i] += 1e-6 * v[i] / vmax;
-	m->dg[j] = 1e-6 * v[n] / vmax;
+	mesh *m = along(m0, v, j);
 	act_opts o;
 	act_opts_init(&o);
 	o.tau = tau;
