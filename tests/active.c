@@ -449,9 +449,38 @@ static void cycle(void)
 	mesh_free(m0);
 }
 
+/* A state that overflows: both schemes stop with ACT_END_NONFINITE and
+ * leave the last finite state in the mesh. */
+static void nonfinite(void)
+{
+	for (int sch = 0; sch < 2; sch++) {
+		mesh *m0 = honeycomb(6, 3.65);
+		mesh_tension_alloc(m0);
+		m0->dg[0] = 1e307;
+		act_opts o;
+		act_opts_init(&o);
+		o.scheme = sch ? ACT_BDF : ACT_EULER;
+		o.gamma0 = 1e307;
+		act_end why;
+		mesh *mo;
+		act *a = run(m0, &mo, 0, &o, 10, NULL, &why);
+		int fin = 1;
+		for (int i = 0; i < 2 * mo->nv; i++)
+			fin &= isfinite(mo->r[i]);
+		fin &= isfinite(mo->dg[0]);
+		diag("%s: ended %s at t %g", sch ? "bdf" : "euler", act_end_name(why), act_time(a));
+		ok(why == ACT_END_NONFINITE && fin, "%s: an overflowing state ends the run as nonfinite, the mesh finite",
+		   sch ? "bdf" : "euler");
+		act_free(a);
+		mesh_free(mo);
+		mesh_free(m0);
+	}
+}
+
 int main(void)
 {
-	tap_plan(4 + 5 + 5 + 2 + 1);
+	tap_plan(4 + 5 + 5 + 2 + 1 + 2);
+	nonfinite();
 	convergence();
 	linear();
 	direct();
