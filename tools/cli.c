@@ -183,6 +183,11 @@ void cli_history(mesh *m)
 
 void cli_history_note(mesh *m, const char *note)
 {
+	if (m->nhist == 0) {
+		if (mesh_history_add(m, note) != MESH_OK)
+			cli_die(EXIT_INPUT, "out of memory");
+		return;
+	}
 	char *h = m->hist[m->nhist - 1];
 	size_t n = strlen(h) + strlen(note) + 4;
 	char *s = realloc(h, n);

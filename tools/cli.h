@@ -54,9 +54,8 @@ void cli_write_mesh(const mesh *m);
 /* Add the command line given to cli_init as a history line; exit 1 if out
  * of memory. */
 void cli_history(mesh *m);
-
-/* Append a shell comment (" # note") to the last history line, the one
- * cli_history added: how the run ended.  Exit 1 if out of memory. */
+/* Append " # note" to the last history line (what the run did not finish,
+ * how it ended); exit 1 if out of memory. */
 void cli_history_note(mesh *m, const char *note);
 
 /* Begin a TSV table on f: "# " lines of provenance (the history of m, if
