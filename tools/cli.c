@@ -161,6 +161,23 @@ void cli_write_mesh(const mesh *m)
 		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
 }
 
+void cli_write_frame(mesh *m, double t)
+{
+	const char *had = mesh_state_get(m, "t");
+	char ts[32], old[64] = "";
+	if (had)
+		snprintf(old, sizeof old, "%s", had);
+	snprintf(ts, sizeof ts, "%.17g", t);
+	if (mesh_state_set(m, "t", ts) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
+	printf("# %s frame t %.10g\n", cli_name, t);
+	cli_write_mesh(m);
+	if (!had)
+		mesh_state_del(m, "t");
+	else if (mesh_state_set(m, "t", old) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
+}
+
 void cli_table_header(FILE *f, const mesh *m, const char *cols)
 {
 	if (m)

@@ -215,6 +215,7 @@ static void trace_row(struct run *u, double t)
 	else
 		fprintf(u->trace, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g\n", t, w.f6, w.W, w.nt1,
 			w.dg_mean, w.dg_sd, w.lmin);
+	fflush(u->trace);   /* a long run can be watched with tail -f */
 }
 
 static void progress(struct run *u, int force)
@@ -245,8 +246,7 @@ static int observe(act *a, void *data)
 				u->next_trace = ++u->ktrace * u->o->trace_every;
 	}
 	if (u->o->every > 0 && t >= u->next_frame) {
-		printf("# %s frame t %.10g\n", cli_name, t);
-		cli_write_mesh(u->m);
+		cli_write_frame(u->m, t);
 		while (u->next_frame <= t)
 			u->next_frame = ++u->kframe * u->o->every;
 	}
@@ -394,7 +394,8 @@ static double start(const struct opts *o, mesh *m, const model *p, const unsigne
 static void history_end(mesh *m, const struct opts *o, const struct result *r)
 {
 	char note[512];
-	int len = snprintf(note, sizeof note, "end %s at t %.10g", act_end_name(r->why), r->t_end);
+	/* items split by ';', one of them "t T" (mesh_time reads it) */
+	int len = snprintf(note, sizeof note, "end %s; t %.10g", act_end_name(r->why), r->t_end);
 	if (r->why == ACT_END_COLLAPSE)
 		len += snprintf(note + len, sizeof note - len, ", t_c %.10g", r->t_c);
 	len += snprintf(note + len, sizeof note - len, "; %s, %ld steps, %ld force evaluations, %ld T1s",

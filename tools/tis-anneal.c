@@ -208,21 +208,8 @@ static int observe(dyn *d, void *data)
 	if (u->o->every > 0 && c.t >= u->next_frame) {
 		/* the final mesh is the frame at the end: not twice */
 		if (c.t < u->total * (1 - 1e-12)) {
-			/* a frame carries its time (tis-info, tis-vtk read it);
-			 * the mesh goes on with the state lines it had */
-			const char *had = mesh_state_get(u->m, "t");
-			char ts[32], old[64] = "";
-			if (had)
-				snprintf(old, sizeof old, "%s", had);
-			snprintf(ts, sizeof ts, "%.17g", c.t);
-			if (mesh_state_set(u->m, "t", ts) != MESH_OK)
-				cli_die(EXIT_INPUT, "out of memory");
-			printf("# %s frame t %.10g\n", cli_name, c.t);
-			cli_write_mesh(u->m);
-			if (!had)
-				mesh_state_del(u->m, "t");
-			else if (mesh_state_set(u->m, "t", old) != MESH_OK)
-				cli_die(EXIT_INPUT, "out of memory");
+			/* a frame carries its time (tis-info, tis-vtk read it) */
+			cli_write_frame(u->m, c.t);
 		}
 		while (u->next_frame <= c.t)
 			u->next_frame = ++u->kframe * u->o->every;
