@@ -161,6 +161,23 @@ void cli_write_mesh(const mesh *m)
 		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
 }
 
+void cli_write_frame(mesh *m, double t)
+{
+	const char *had = mesh_state_get(m, "t");
+	char ts[32], old[64] = "";
+	if (had)
+		snprintf(old, sizeof old, "%s", had);
+	snprintf(ts, sizeof ts, "%.17g", t);
+	if (mesh_state_set(m, "t", ts) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
+	printf("# %s frame t %.10g\n", cli_name, t);
+	cli_write_mesh(m);
+	if (!had)
+		mesh_state_del(m, "t");
+	else if (mesh_state_set(m, "t", old) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
+}
+
 void cli_table_header(FILE *f, const mesh *m, const char *cols)
 {
 	if (m)
@@ -179,6 +196,23 @@ void cli_history(mesh *m)
 {
 	if (mesh_history_argv(m, cli_argc, cli_argv) != MESH_OK)
 		cli_die(EXIT_INPUT, "out of memory");
+}
+
+void cli_history_note(mesh *m, const char *note)
+{
+	if (m->nhist == 0) {
+		if (mesh_history_add(m, note) != MESH_OK)
+			cli_die(EXIT_INPUT, "out of memory");
+		return;
+	}
+	char *h = m->hist[m->nhist - 1];
+	size_t n = strlen(h) + strlen(note) + 4;
+	char *s = realloc(h, n);
+	if (s == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	strcat(s, " # ");
+	strcat(s, note);
+	m->hist[m->nhist - 1] = s;
 }
 
 void cli_finish(void)

@@ -51,9 +51,17 @@ int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m);
 mesh *cli_read_one(const char *path);
 /* Write a mesh to stdout; exit 1 on a write error. */
 void cli_write_mesh(const mesh *m);
+/* Write a frame of a run to stdout: a "# NAME frame t T" comment, then m
+ * with a "state t T" line (the frame's time, which tis-info and tis-vtk
+ * read); m keeps the state lines it had.  Exit 1 on a write error or out
+ * of memory. */
+void cli_write_frame(mesh *m, double t);
 /* Add the command line given to cli_init as a history line; exit 1 if out
  * of memory. */
 void cli_history(mesh *m);
+/* Append " # note" to the last history line (what the run did not finish,
+ * how it ended); exit 1 if out of memory. */
+void cli_history_note(mesh *m, const char *note);
 
 /* Begin a TSV table on f: "# " lines of provenance (the history of m, if
  * m is not NULL, then this program's command line), then the plain column

@@ -207,8 +207,11 @@ static int observe(dyn *d, void *data)
 	dyn_counts c;
 	dyn_counts_get(d, &c);
 	if (u->o->every > 0 && c.t >= u->next_frame) {
-		printf("# %s frame t %.10g\n", cli_name, c.t);
-		cli_write_mesh(u->m);
+		/* the final mesh is the frame at the end: not twice */
+		if (c.t < u->total * (1 - 1e-12)) {
+			/* a frame carries its time (tis-info, tis-vtk read it) */
+			cli_write_frame(u->m, c.t);
+		}
 		while (u->next_frame <= c.t)
 			u->next_frame = ++u->kframe * u->o->every;
 	}
@@ -231,19 +234,6 @@ static int run_to(struct run *u, double t_end)
 	return !cli_stop;
 }
 
-/* Append a shell comment to the last history line (the command line). */
-static void history_note(mesh *m, const char *note)
-{
-	char *h = m->hist[m->nhist - 1];
-	size_t n = strlen(h) + strlen(note) + 4;
-	char *s = realloc(h, n);
-	if (s == NULL)
-		cli_die(EXIT_INPUT, "out of memory");
-	strcat(s, " # ");
-	strcat(s, note);
-	m->hist[m->nhist - 1] = s;
-}
-
 int main(int argc, char **argv)
 {
 	cli_init("tis-anneal", usage, argc, argv);
@@ -263,7 +253,11 @@ int main(int argc, char **argv)
 		u.log = fopen(o.log, "w");
 		if (u.log == NULL)
 			cli_die(EXIT_INPUT, "%s: cannot open for writing", o.log);
-		fprintf(u.log, "# t\tf6\tenergy\tt1\n");
+		/* the mesh's history without this command line, which
+		 * cli_table_header adds */
+		mesh h = *m;
+		h.nhist--;
+		cli_table_header(u.log, &h, "t\tf6\tenergy\tt1");
 	}
 	mesh_error err;
 	if (dyn_alloc(m, &p, &o.d, o.seed, &u.d, &err) != MESH_OK)
@@ -329,7 +323,7 @@ int main(int argc, char **argv)
 				"(settle), covering %.10g time units", c.nsettle, o.d.settle, c.t_settled);
 	if (!done)
 		snprintf(note + len, sizeof note - len, "; interrupted");
-	history_note(m, note);
+	cli_history_note(m, note);
 
 	if (u.log) {
 		if (!done)
