@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "select.h"
 #include "stability.h"
 
 static const char usage[] =
@@ -167,41 +168,24 @@ static struct opts parse(int argc, char **argv)
 	return o;
 }
 
-static int *read_list(const char *path, const mesh *m, int *count)
-{
-	FILE *f = fopen(path, "r");
-	if (f == NULL)
-		cli_die(EXIT_INPUT, "--list %s: cannot open it", path);
-	int *sel;
-	mesh_error err;
-	int st = mesh_junctions_read(f, m, &sel, count, &err);
-	fclose(f);
-	if (st != MESH_OK && err.line > 0)
-		cli_die(EXIT_INPUT, "--list %s:%ld: %s", path, err.line, err.msg);
-	if (st != MESH_OK)
-		cli_die(EXIT_INPUT, "--list %s: %s", path, err.msg);
-	return sel;
-}
-
 static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 {
-	if (o->sel == SEL_LIST)
-		return read_list(o->list, m, count);
-	/* checked before anything is allocated: no leak on the way out */
-	int j = 0;
-	if (o->sel == SEL_PAIR)
-		j = cli_junction(m, o->va, o->vb);
-	else if (o->sel == SEL_INDEX && o->index >= m->nj)
-		cli_die(EXIT_INPUT, "--index %ld: the mesh has %d junctions", o->index, m->nj);
-	else if (o->sel == SEL_INDEX)
-		j = (int)o->index;
-	int n = o->sel == SEL_ALL ? m->nj : 1;
-	int *sel = malloc(((size_t)n + 1) * sizeof *sel);
-	if (sel == NULL)
-		cli_die(EXIT_INPUT, "out of memory");
-	for (int k = 0; k < n; k++)
-		sel[k] = o->sel == SEL_ALL ? k : j;
-	*count = n;
+	int *sel = NULL, st = MESH_OK;
+	mesh_error err;
+	switch (o->sel) {
+	case SEL_PAIR: st = junction_select_pair(m, o->va, o->vb, &sel, count, &err); break;
+	case SEL_INDEX: st = junction_select_index(m, o->index, &sel, count, &err); break;
+	case SEL_LIST: st = junction_select_file(m, o->list, &sel, count, &err); break;
+	default:
+		sel = malloc(((size_t)m->nj + 1) * sizeof *sel);
+		if (sel == NULL)
+			cli_die(EXIT_INPUT, "out of memory");
+		for (int j = 0; j < m->nj; j++)
+			sel[j] = j;
+		*count = m->nj;
+	}
+	if (st != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err.msg);
 	return sel;
 }
 
