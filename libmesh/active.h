@@ -45,6 +45,11 @@ typedef enum { ACT_EULER, ACT_BDF } act_scheme;
  * this time (active.c). */
 #define ACT_CHECKPOINT 1.0
 
+/* BDF restart interval (bench/RESULTS.md): a run stopped there and
+ * continued from the mesh it wrote is the uninterrupted run, bit for bit,
+ * with T1s off. */
+#define ACT_BDF_CHECKPOINT 100
+
 /* BDF absolute tolerance per unit of rtol (lengths in sqrt(A0)). */
 #define ACT_ATOL_FACTOR 1e-2
 
@@ -60,6 +65,9 @@ typedef struct {
 	double t1_new;      /* length of a junction made by a T1 (1e-3) */
 	double l_collapse;  /* T1s off: stop when an active junction is this
 	                       short (1e-3) */
+	double checkpoint;  /* BDF: restart the integrator at multiples of this
+	                       time, where a stop request is honoured
+	                       (ACT_BDF_CHECKPOINT; 0: never, stop at once) */
 } act_opts;
 
 void act_opts_init(act_opts *o);

@@ -17,9 +17,9 @@
 static const char usage[] =
 	"(--junction A B | --index K | --random K | --list FILE | --network)\n"
 	"       [--rate R | --tau T] [--gamma0 G] [--sigma S] [--p0 X] [--ka Y] [--time T]\n"
-	"       [--perturb EPS] [--seed N] [--scheme bdf|euler] [--rtol X] [--dt DT] [--dr DR]\n"
-	"       [--t1 L] [--t1-new L] [--collapse L] [--trace FILE] [--trace-every T]\n"
-	"       [--events FILE] [--every T] [MESH]";
+	"       [--perturb EPS] [--seed N] [--scheme bdf|euler] [--rtol X] [--checkpoint T]\n"
+	"       [--dt DT] [--dr DR] [--t1 L] [--t1-new L] [--collapse L] [--trace FILE]\n"
+	"       [--trace-every T] [--events FILE] [--every T] [MESH]";
 static const char help[] =
 	"Integrate active junction tensions (paper eq. 1) with the overdamped vertex\n"
 	"dynamics (eq. 2) from a force-free mesh plus a small random perturbation of\n"
@@ -43,6 +43,9 @@ static const char help[] =
 	"  --scheme S         bdf (default) or euler (the paper's; default with noise\n"
 	"                     and in network mode)\n"
 	"  --rtol X           bdf tolerance (default 1e-9)\n"
+	"  --checkpoint T     bdf restarts at multiples of T, where a stop (SIGTERM)\n"
+	"                     waits for; continuing is then bit-exact (default "
+	STR(ACT_BDF_CHECKPOINT) "; 0: never)\n"
 	"  --dt DT, --dr DR   euler step limits (default 0.001 each)\n"
 	"  --t1 L             T1 threshold (network default 0.01, else 0: off)\n"
 	"  --t1-new L         length of a junction made by a T1 (default 0.001)\n"
@@ -84,7 +87,7 @@ static int one_d(const char *name)
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
-	       O_SIGMA, O_P0, O_KA, O_TIME, O_PERTURB, O_SEED, O_SCHEME, O_RTOL, O_DT, O_DR,
+	       O_SIGMA, O_P0, O_KA, O_TIME, O_PERTURB, O_SEED, O_SCHEME, O_RTOL, O_CHECKPOINT, O_DT, O_DR,
 	       O_T1, O_T1NEW, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_EVENTS, O_EVERY, O_VERSION };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
@@ -103,6 +106,7 @@ static struct opts parse(int argc, char **argv)
 		{ "seed", required_argument, NULL, O_SEED },
 		{ "scheme", required_argument, NULL, O_SCHEME },
 		{ "rtol", required_argument, NULL, O_RTOL },
+		{ "checkpoint", required_argument, NULL, O_CHECKPOINT },
 		{ "dt", required_argument, NULL, O_DT },
 		{ "dr", required_argument, NULL, O_DR },
 		{ "t1", required_argument, NULL, O_T1 },
@@ -151,6 +155,7 @@ static struct opts parse(int argc, char **argv)
 			o.has_scheme = 1;
 			break;
 		case O_RTOL: o.a.rtol = cli_double_range("--rtol", optarg, 1e-14, 0.1); break;
+		case O_CHECKPOINT: o.a.checkpoint = cli_double_range("--checkpoint", optarg, 0, 1e12); break;
 		case O_DT: o.a.dt_max = cli_double_range("--dt", optarg, 1e-9, 1); break;
 		case O_DR: o.a.dr_max = cli_double_range("--dr", optarg, 1e-9, 0.1); break;
 		case O_T1: o.a.t1_length = cli_double_range("--t1", optarg, 0, 0.5); o.has_t1 = 1; break;
