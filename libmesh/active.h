@@ -179,7 +179,7 @@ typedef struct {
 	double t_end;        /* run until this time */
 	double trace_every;  /* row interval (> 0) */
 	double every;        /* frame interval (0: no frames) */
-	const char *name;    /* the input's name, for messages */
+	const char *name;    /* the input's name, for messages (NULL: "<mesh>") */
 } act_job_opts;
 
 /* Callbacks of a run, any of them NULL.  begin: the integrator exists,

@@ -14,6 +14,7 @@ int act_start(mesh *m, const model *p, const unsigned char *active, const act_jo
 {
 	const char *ts = mesh_state_get(m, "active_t");
 	const char *rs = mesh_state_get(m, "active_rng");
+	const char *name = jo->name ? jo->name : "<mesh>";
 	*t0 = 0;
 	rng[0] = '\0';
 	if (ts) {
@@ -21,7 +22,7 @@ int act_start(mesh *m, const model *p, const unsigned char *active, const act_jo
 		*t0 = strtod(ts, &end);
 		if (*end != '\0' || !isfinite(*t0))
 			return mesh_error_set(err, 0, MESH_EINVAL, "%s: bad state active_t '%s'",
-					      jo->name, ts);
+					      name, ts);
 		if (rs)
 			snprintf(rng, n, "%s", rs);
 	}
@@ -32,7 +33,7 @@ int act_start(mesh *m, const model *p, const unsigned char *active, const act_jo
 		if (!(f <= ACT_REST_TOL))
 			return mesh_error_set(err, 0, MESH_EINVAL,
 					      "%s: the mesh is not at rest (largest force %.3g > %g at "
-					      "p0 %g, ka %g): relax it first (tis-relax)", jo->name, f,
+					      "p0 %g, ka %g): relax it first (tis-relax)", name, f,
 					      ACT_REST_TOL, p->p0, p->ka);
 	}
 	/* a continued run keeps its noise stream; a new one continues the
