@@ -12,7 +12,8 @@ void act_opts_init(act_opts *o)
 {
 	*o = (act_opts){ .scheme = ACT_BDF, .tau = 1, .gamma0 = 0, .sigma = 0,
 			 .rtol = 1e-9, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
-			 .t1_new = 1e-3, .l_collapse = 1e-3 };
+			 .t1_new = 1e-3, .l_collapse = 1e-3,
+			 .checkpoint = ACT_BDF_CHECKPOINT };
 }
 
 const char *act_end_name(act_end e)
@@ -52,6 +53,8 @@ static int check_opts(const act_opts *o, mesh_error *err)
 			return mesh_error_set(err, 0, MESH_EDOM, "the bdf scheme has no noise; use euler for sigma > 0");
 		if (!(o->rtol >= 1e-14 && o->rtol <= 0.1))
 			return mesh_error_set(err, 0, MESH_EDOM, "rtol must be in [1e-14, 0.1]");
+		if (!(o->checkpoint >= 0 && isfinite(o->checkpoint)))
+			return mesh_error_set(err, 0, MESH_EDOM, "the checkpoint interval must be non-negative");
 	} else if (!(o->dt_max > 0 && isfinite(o->dt_max)) || !(o->dr_max > 0 && isfinite(o->dr_max))) {
 		return mesh_error_set(err, 0, MESH_EDOM, "time step and displacement limits must be positive");
 	}
@@ -306,7 +309,7 @@ static int restore(act *a)
  * mesh holds wrapped coordinates; a run that wraps them at every
  * checkpoint (where a stopped run writes its mesh) computes what a run
  * continued from that mesh computes, bit for bit. */
-static void keep_wrapped(mesh *m)
+void act_keep_wrapped(mesh *m)
 {
 	for (int v = 0; v < m->nv; v++) {
 		double x = m->r[2 * v], y = m->r[2 * v + 1];
@@ -416,7 +419,7 @@ static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end 
 	mesh *m = a->m;
 	a->why = ACT_END_TIME;
 	if (!a->have_prev) {
-		keep_wrapped(m);
+		act_keep_wrapped(m);
 		snapshot(a);
 		for (int k = 0; k < a->na; k++)
 			act_jvec(m, m->r, a->aj[k], a->jprev + 2 * k);
@@ -444,7 +447,7 @@ static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end 
 		}
 		if (a->why != ACT_END_TIME)
 			break;
-		keep_wrapped(m);
+		act_keep_wrapped(m);
 		if (a->c.nt1 != nt1 && (st = canonical(a, err)) != MESH_OK)
 			return st;
 		if (a->why != ACT_END_TIME)

@@ -45,6 +45,11 @@ typedef enum { ACT_EULER, ACT_BDF } act_scheme;
  * this time (active.c). */
 #define ACT_CHECKPOINT 1.0
 
+/* BDF restart interval (bench/RESULTS.md): a run stopped there and
+ * continued from the mesh it wrote is the uninterrupted run, bit for bit,
+ * with T1s off. */
+#define ACT_BDF_CHECKPOINT 100
+
 /* BDF absolute tolerance per unit of rtol (lengths in sqrt(A0)). */
 #define ACT_ATOL_FACTOR 1e-2
 
@@ -60,6 +65,9 @@ typedef struct {
 	double t1_new;      /* length of a junction made by a T1 (1e-3) */
 	double l_collapse;  /* T1s off: stop when an active junction is this
 	                       short (1e-3) */
+	double checkpoint;  /* BDF: restart the integrator at multiples of this
+	                       time, where a stop request is honoured
+	                       (ACT_BDF_CHECKPOINT; 0: never, stop at once) */
 } act_opts;
 
 void act_opts_init(act_opts *o);
@@ -153,5 +161,70 @@ int act_perturb(mesh *m, const unsigned char *active, double eps, unsigned long 
 /* Largest vertex force |grad_i W| of the passive tissue: the check that a
  * run assumed to start at rest does. */
 double act_rest_force(const mesh *m, const model *p);
+
+/* ---- a whole run (active_job.c): start state, trace sampling, result ----
+ * What tis-active does for each junction it is asked about; the caller
+ * does the output through the callbacks. */
+
+/* The start perturbation of a mesh at rest (its s.d.), and the largest
+ * force a mesh assumed at rest may have. */
+#define ACT_PERTURB_DEFAULT 1e-4
+#define ACT_REST_TOL 1e-8
+
+typedef struct {
+	double perturb;      /* s.d. of the start perturbation; < 0: the default
+	                        (ACT_PERTURB_DEFAULT at rest, 0 for a mesh that
+	                        carries tensions or run state) */
+	unsigned long seed;  /* perturbation and noise */
+	double t_end;        /* run until this time */
+	double trace_every;  /* row interval (> 0) */
+	double every;        /* frame interval (0: no frames) */
+	const char *name;    /* the input's name, for messages (NULL: "<mesh>") */
+} act_job_opts;
+
+/* Callbacks of a run, any of them NULL.  begin: the integrator exists,
+ * before the first row (open outputs, act_set_t1_hook).  row: a sample at
+ * a multiple of trace_every, the first one the start state and the last
+ * one the end state.  frame: the mesh at a multiple of every.  step:
+ * after every step (progress).  None may change the run. */
+typedef struct {
+	void (*begin)(void *data, act *a, mesh *m);
+	void (*row)(void *data, const act_row *w);
+	void (*frame)(void *data, mesh *m, double t);
+	void (*step)(void *data, const act *a);
+	void *data;
+} act_io;
+
+/* How a run ended.  l_end, dg_end: the traced junction at t_end (network:
+ * the collapsed one, else NaN); lmin, lmax: its length over the rows;
+ * t_c: the extrapolated collapse time (NaN unless ACT_END_COLLAPSE). */
+typedef struct {
+	act_end why;
+	act_counts c;
+	double t_end, t_c, l_end, dg_end, lmin, lmax;
+} act_result;
+
+/* The start state of m: the time (*t0) and the noise stream (rng, "" if
+ * none) of an interrupted run from its state lines, or a mesh at rest
+ * (checked: MESH_EINVAL otherwise) plus the perturbation of the
+ * coordinates and of the tensions of the active junctions (NULL: all).
+ * MESH_EINVAL also for a bad active_t line; MESH_ENOMEM. */
+int act_start(mesh *m, const model *p, const unsigned char *active, const act_job_opts *jo,
+              double *t0, char *rng, size_t n, mesh_error *err);
+
+/* One run of m (updated in place) with junction j active (j < 0: every
+ * junction) from its start state (act_start) to jo->t_end or an event,
+ * rows and frames through io.  Afterwards the mesh holds the end state,
+ * with state lines (active_t, active_rng) when the run was stopped or went
+ * non-finite (so it can be continued), none otherwise.  MESH_OK whatever
+ * r->why (ACT_END_NONFINITE: err says why), or the error of the start,
+ * the integrator or the sampling. */
+int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, int j,
+            volatile sig_atomic_t *stop, const act_io *io, act_result *r, mesh_error *err);
+
+/* The history note of a run ("end REASON; t T[, t_c TC]; SCHEME, counts"),
+ * its items split by ';', one of them "t T" (what mesh_time reads).
+ * Returns the length snprintf would have written. */
+int act_note(char *buf, size_t n, const act_opts *o, const act_result *r);
 
 #endif

@@ -47,4 +47,8 @@ int bdf_sample(act *a, double t, double *r, double *dg);
  * and its vector into d. */
 double act_jvec(const mesh *m, const double *r, int j, double d[2]);
 
+/* Wrap the coordinates into the box when a vertex has left it (what a
+ * written and read mesh holds). */
+void act_keep_wrapped(mesh *m);
+
 #endif

@@ -527,6 +527,19 @@ static int bdf_t1s(act *a, mesh_error *err)
 	return MESH_OK;
 }
 
+/* A fresh integrator at the mesh's state, the displacements measured
+ * from it: what bdf_alloc makes of a mesh that was read. */
+static int restart(act *a)
+{
+	bdf *b = a->b;
+	memcpy(b->r0, a->m->r, (size_t)b->n2 * sizeof *b->r0);
+	pack(a, N_VGetArrayPointer(b->y));
+	if (CVodeReInit(b->cv, a->t, b->y) != CV_SUCCESS)
+		return MESH_ENOMEM;
+	b->need_init = 0;
+	return MESH_OK;
+}
+
 int bdf_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why, mesh_error *err)
 {
 	bdf *b = a->b;
@@ -536,26 +549,25 @@ int bdf_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why, mes
 		*why = ACT_END_NONFINITE;
 		return MESH_OK;
 	}
+	const double cp = a->o.checkpoint;
 	/* the mesh may have been changed between runs */
-	pack(a, y);
-	if (CVodeReInit(b->cv, a->t, b->y) != CV_SUCCESS)
+	if (restart(a) != MESH_OK)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "CVODE could not be restarted");
-	b->need_init = 0;
 	while (a->t < t_end) {
-		if (stop && *stop) {
+		if (stop && *stop && (cp == 0 || a->t == floor(a->t / cp) * cp)) {
 			*why = ACT_END_STOP;
 			break;
 		}
-		if (b->need_init) {
-			pack(a, y);
-			if (CVodeReInit(b->cv, a->t, b->y) != CV_SUCCESS)
-				return mesh_error_set(err, 0, MESH_ENOMEM, "CVODE could not be restarted");
-			b->need_init = 0;
-		}
-		CVodeSetStopTime(b->cv, t_end);
+		if (b->need_init && restart(a) != MESH_OK)
+			return mesh_error_set(err, 0, MESH_ENOMEM, "CVODE could not be restarted");
+		double seg = cp > 0 ? (floor(a->t / cp) + 1) * cp : t_end;
+		double tstop = seg < t_end ? seg : t_end;
+		CVodeSetStopTime(b->cv, tstop);
 		double t;
 		double tprev = a->t;
-		int flag = CVode(b->cv, t_end, b->y, &t, CV_ONE_STEP);
+		int flag = CVode(b->cv, tstop, b->y, &t, CV_ONE_STEP);
+		if (flag == CV_TSTOP_RETURN)
+			t = tstop;
 		if (flag < 0) {
 			/* y holds the last successful step (the mesh already
 			 * has it) */
@@ -586,7 +598,15 @@ int bdf_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why, mes
 				break;
 			}
 		}
-		if (a->obs && a->obs(a, a->obs_data)) {
+		int quit = a->obs && a->obs(a, a->obs_data);
+		/* a checkpoint (after the samples, which need the step's
+		 * interpolant and coordinates): the state a stopped run writes,
+		 * restarted from as a run continued from it is */
+		if (t == seg && seg < t_end) {
+			act_keep_wrapped(a->m);
+			b->need_init = 1;
+		}
+		if (quit) {
 			*why = ACT_END_STOP;
 			break;
 		}

@@ -6,7 +6,8 @@
  * nonsymmetric solver: independent of the integrators); the collapse
  * exponent l ~ (t_c - t)^beta at five parameter points; and the BDF
  * Jacobian's tension row against a finite difference of the right-hand
- * side (through the linearized growth it drives). */
+ * side (through the linearized growth it drives); act_job: its rows, a
+ * stop at a bdf checkpoint and a bit-exact continuation. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -477,9 +478,86 @@ static void nonfinite(void)
 	}
 }
 
+/* act_job: rows on the grid from the start state to the end; a run
+ * stopped mid-way (by its step callback) waits for the next bdf
+ * checkpoint, leaves state lines, and continued by a second act_job
+ * reaches the uninterrupted run's state to the bit; a mesh not at rest is
+ * refused. */
+struct jobrec {
+	int nrow;
+	double first, last;
+	volatile sig_atomic_t *stop;
+	double stop_at;
+};
+
+static void job_row(void *data, const act_row *w)
+{
+	struct jobrec *q = data;
+	if (q->nrow++ == 0)
+		q->first = w->t;
+	q->last = w->t;
+}
+
+static void job_step(void *data, const act *a)
+{
+	struct jobrec *q = data;
+	if (q->stop && act_time(a) > q->stop_at)
+		*q->stop = 1;
+}
+
+static void job(void)
+{
+	mesh *m0 = honeycomb(6, TIS_PHEX);
+	model p = model_from_mesh(m0);
+	act_opts o;
+	act_opts_init(&o);
+	o.tau = 1 / 0.19;
+	o.gamma0 = 0.11;
+	act_job_opts jo = { .perturb = -1, .seed = 1, .t_end = 250, .trace_every = 1 };
+	struct jobrec q = { 0 };
+	act_io io = { NULL, job_row, NULL, job_step, &q };
+	act_result r;
+	mesh_error err;
+	mesh *full = mesh_copy(m0);
+	int st = act_job(full, &p, &o, &jo, 0, NULL, &io, &r, &err);
+	ok(st == MESH_OK && r.why == ACT_END_TIME && r.t_end == 250 && q.nrow == 251 &&
+	   q.first == 0 && q.last == 250 && mesh_state_get(full, "active_t") == NULL &&
+	   r.lmin < r.lmax && r.l_end >= r.lmin && r.l_end <= r.lmax,
+	   "act_job: 251 rows from t 0 to t 250, no state lines, l_end within [l_min, l_max]");
+
+	volatile sig_atomic_t stop = 0;
+	struct jobrec q2 = { .stop = &stop, .stop_at = 30 };
+	io.data = &q2;
+	mesh *part = mesh_copy(m0);
+	st = act_job(part, &p, &o, &jo, 0, &stop, &io, &r, &err);
+	const char *ts = mesh_state_get(part, "active_t");
+	ok(st == MESH_OK && r.why == ACT_END_STOP && r.t_end == ACT_BDF_CHECKPOINT && ts &&
+	   strtod(ts, NULL) == ACT_BDF_CHECKPOINT,
+	   "a stop at t 30 waits for the checkpoint at %g (stopped at %g)", (double)ACT_BDF_CHECKPOINT,
+	   r.t_end);
+	io.data = &q;
+	st = act_job(part, &p, &o, &jo, 0, NULL, &io, &r, &err);
+	ok(st == MESH_OK && r.why == ACT_END_TIME && part->nv == full->nv && part->nj == full->nj &&
+	   memcmp(part->r, full->r, 2 * (size_t)full->nv * sizeof *full->r) == 0 &&
+	   memcmp(part->dg, full->dg, (size_t)full->nj * sizeof *full->dg) == 0,
+	   "continued from its state lines: the uninterrupted coordinates and tensions, to the bit");
+
+	mesh *moved = mesh_copy(m0);
+	moved->r[0] += 0.01;
+	double t0;
+	char rng[64];
+	ok(act_start(moved, &p, NULL, &jo, &t0, rng, sizeof rng, &err) == MESH_EINVAL &&
+	   strstr(err.msg, "not at rest") != NULL, "act_start refuses a mesh not at rest: %s", err.msg);
+	mesh_free(moved);
+	mesh_free(part);
+	mesh_free(full);
+	mesh_free(m0);
+}
+
 int main(void)
 {
-	tap_plan(4 + 5 + 5 + 2 + 1 + 2);
+	tap_plan(4 + 5 + 5 + 2 + 1 + 2 + 4);
+	job();
 	nonfinite();
 	convergence();
 	linear();

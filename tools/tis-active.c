@@ -9,20 +9,17 @@
 
 #include "active.h"
 #include "cli.h"
-#include "noise.h"
 #include "select.h"
 
-#define PERTURB_DEFAULT 1e-4
-#define REST_TOL 1e-8
 #define STR_(x) #x
 #define STR(x) STR_(x)
 
 static const char usage[] =
 	"(--junction A B | --index K | --random K | --list FILE | --network)\n"
 	"       [--rate R | --tau T] [--gamma0 G] [--sigma S] [--p0 X] [--ka Y] [--time T]\n"
-	"       [--perturb EPS] [--seed N] [--scheme bdf|euler] [--rtol X] [--dt DT] [--dr DR]\n"
-	"       [--t1 L] [--t1-new L] [--collapse L] [--trace FILE] [--trace-every T]\n"
-	"       [--events FILE] [--every T] [MESH]";
+	"       [--perturb EPS] [--seed N] [--scheme bdf|euler] [--rtol X] [--checkpoint T]\n"
+	"       [--dt DT] [--dr DR] [--t1 L] [--t1-new L] [--collapse L] [--trace FILE]\n"
+	"       [--trace-every T] [--events FILE] [--every T] [MESH]";
 static const char help[] =
 	"Integrate active junction tensions (paper eq. 1) with the overdamped vertex\n"
 	"dynamics (eq. 2) from a force-free mesh plus a small random perturbation of\n"
@@ -40,12 +37,15 @@ static const char help[] =
 	"  --sigma S          tension noise, long-time s.d. (default 0; euler only)\n"
 	"  --p0 X, --ka Y     model parameters (override the mesh's)\n"
 	"  --time T           run until time T (default 1000)\n"
-	"  --perturb EPS      s.d. of the start perturbation (default " STR(PERTURB_DEFAULT) ";\n"
+	"  --perturb EPS      s.d. of the start perturbation (default " STR(ACT_PERTURB_DEFAULT) ";\n"
 	"                     0 for a mesh that carries tensions)\n"
 	"  --seed N           random seed (default 1)\n"
 	"  --scheme S         bdf (default) or euler (the paper's; default with noise\n"
 	"                     and in network mode)\n"
 	"  --rtol X           bdf tolerance (default 1e-9)\n"
+	"  --checkpoint T     bdf restarts at multiples of T, where a stop (SIGTERM)\n"
+	"                     waits for; continuing is then bit-exact (default "
+	STR(ACT_BDF_CHECKPOINT) "; 0: never)\n"
 	"  --dt DT, --dr DR   euler step limits (default 0.001 each)\n"
 	"  --t1 L             T1 threshold (network default 0.01, else 0: off)\n"
 	"  --t1-new L         length of a junction made by a T1 (default 0.001)\n"
@@ -87,7 +87,7 @@ static int one_d(const char *name)
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
-	       O_SIGMA, O_P0, O_KA, O_TIME, O_PERTURB, O_SEED, O_SCHEME, O_RTOL, O_DT, O_DR,
+	       O_SIGMA, O_P0, O_KA, O_TIME, O_PERTURB, O_SEED, O_SCHEME, O_RTOL, O_CHECKPOINT, O_DT, O_DR,
 	       O_T1, O_T1NEW, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_EVENTS, O_EVERY, O_VERSION };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
@@ -106,6 +106,7 @@ static struct opts parse(int argc, char **argv)
 		{ "seed", required_argument, NULL, O_SEED },
 		{ "scheme", required_argument, NULL, O_SCHEME },
 		{ "rtol", required_argument, NULL, O_RTOL },
+		{ "checkpoint", required_argument, NULL, O_CHECKPOINT },
 		{ "dt", required_argument, NULL, O_DT },
 		{ "dr", required_argument, NULL, O_DR },
 		{ "t1", required_argument, NULL, O_T1 },
@@ -154,6 +155,7 @@ static struct opts parse(int argc, char **argv)
 			o.has_scheme = 1;
 			break;
 		case O_RTOL: o.a.rtol = cli_double_range("--rtol", optarg, 1e-14, 0.1); break;
+		case O_CHECKPOINT: o.a.checkpoint = cli_double_range("--checkpoint", optarg, 0, 1e12); break;
 		case O_DT: o.a.dt_max = cli_double_range("--dt", optarg, 1e-9, 1); break;
 		case O_DR: o.a.dr_max = cli_double_range("--dr", optarg, 1e-9, 0.1); break;
 		case O_T1: o.a.t1_length = cli_double_range("--t1", optarg, 0, 0.5); o.has_t1 = 1; break;
@@ -192,85 +194,60 @@ static struct opts parse(int argc, char **argv)
 	return o;
 }
 
-/* One run: its options, mesh, integrator and outputs. */
-struct run {
+/* The outputs of one run. */
+struct out {
 	const struct opts *o;
-	mesh *m;
-	act *a;
 	int j;              /* the junction traced (-1 in network mode) */
+	int jfile;          /* the number in the file names (-1: as given) */
 	FILE *trace, *events;
-	double next_trace, next_frame;
-	long ktrace, kframe;
-	double last_row_t;
-	double lmin, lmax;  /* of junction j over the samples */
 	int tty;
 	time_t last_progress;
 };
 
-static void trace_row(struct run *u, double t)
+static void progress(const struct out *u, double t, long nstep, long nt1)
 {
-	act_row w;
-	if (act_row_at(u->a, t, u->j, &w) != MESH_OK)
-		cli_die(EXIT_INPUT, "interpolation failed at t %g", t);
-	if (u->j >= 0) {
-		u->lmin = w.l < u->lmin ? w.l : u->lmin;
-		u->lmax = w.l > u->lmax ? w.l : u->lmax;
-	}
-	u->last_row_t = t;
-	if (u->trace == NULL)
-		return;
-	if (u->j >= 0)
-		fprintf(u->trace, "%.10g\t%.12g\t%.12g\t%.12g\t%.12g\n", t, w.l, w.dg, w.ldot, w.W);
-	else
-		fprintf(u->trace, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g\n", t, w.f6, w.W, w.nt1,
-			w.dg_mean, w.dg_sd, w.lmin);
-	fflush(u->trace);   /* a long run can be watched with tail -f */
+	fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, t, u->o->time, nstep,
+		nt1);
 }
 
-static void progress(struct run *u, int force)
+static void on_step(void *data, const act *a)
 {
+	struct out *u = data;
 	time_t now = time(NULL);
-	if (!force && now == u->last_progress)
+	if (!u->tty || now == u->last_progress)
 		return;
 	u->last_progress = now;
 	act_counts c;
-	act_counts_get(u->a, &c);
-	fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, c.t, u->o->time,
-		c.nstep, c.nt1);
+	act_counts_get(a, &c);
+	progress(u, c.t, c.nstep, c.nt1);
 }
 
-/* After every step: trace rows (the integrator's own interpolant for bdf,
- * the step itself for euler), frames, progress; none changes the run. */
-static int observe(act *a, void *data)
+static void on_row(void *data, const act_row *w)
 {
-	struct run *u = data;
-	double t = act_time(a);
-	while (u->next_trace <= t) {
-		int interp = u->o->a.scheme == ACT_BDF && u->next_trace >= act_time_prev(a);
-		trace_row(u, interp ? u->next_trace : t);
-		if (interp)
-			u->next_trace = ++u->ktrace * u->o->trace_every;
-		else
-			while (u->next_trace <= t)
-				u->next_trace = ++u->ktrace * u->o->trace_every;
-	}
-	if (u->o->every > 0 && t >= u->next_frame) {
-		cli_write_frame(u->m, t);
-		while (u->next_frame <= t)
-			u->next_frame = ++u->kframe * u->o->every;
-	}
-	if (u->tty)
-		progress(u, 0);
-	return 0;
+	struct out *u = data;
+	if (u->trace == NULL)
+		return;
+	if (u->j >= 0)
+		fprintf(u->trace, "%.10g\t%.12g\t%.12g\t%.12g\t%.12g\n", w->t, w->l, w->dg, w->ldot,
+			w->W);
+	else
+		fprintf(u->trace, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g\n", w->t, w->f6, w->W,
+			w->nt1, w->dg_mean, w->dg_sd, w->lmin);
+	fflush(u->trace);   /* a long run can be watched with tail -f */
 }
 
-static void t1_event(void *data, double t, int j, const int lose[2], const int gain[2],
-                     double lbefore)
+static void on_frame(void *data, mesh *m, double t)
 {
-	struct run *u = data;
-	if (u->events)
-		fprintf(u->events, "%.10g\t%d\t%d\t%d\t%d\t%d\t%.10g\n", t, j, lose[0], lose[1],
-			gain[0], gain[1], lbefore);
+	(void)data;
+	cli_write_frame(m, t);
+}
+
+static void on_t1(void *data, double t, int j, const int lose[2], const int gain[2],
+                  double lbefore)
+{
+	struct out *u = data;
+	fprintf(u->events, "%.10g\t%d\t%d\t%d\t%d\t%d\t%.10g\n", t, j, lose[0], lose[1], gain[0],
+		gain[1], lbefore);
 }
 
 /* FILE, or with several junctions (j >= 0) FILE with its one %d replaced
@@ -289,156 +266,69 @@ static FILE *open_out(const char *pattern, int j)
 	return f;
 }
 
+/* A table's header: the mesh's history without this command's line,
+ * which cli_table_header adds. */
+static void header(FILE *f, mesh *m, const char *cols)
+{
+	m->nhist--;
+	cli_table_header(f, m, cols);
+	m->nhist++;
+}
+
+static void on_begin(void *data, act *a, mesh *m)
+{
+	struct out *u = data;
+	if (u->o->trace) {
+		u->trace = open_out(u->o->trace, u->jfile);
+		header(u->trace, m, u->j >= 0 ? "t\tl\tdg\tldot\tW" :
+		       "t\tf6\tW\tnt1\tdg_mean\tdg_sd\tlmin");
+	}
+	if (u->o->events) {
+		u->events = open_out(u->o->events, u->jfile);
+		header(u->events, m, "t\tj\tlose1\tlose2\tgain1\tgain2\tl_before");
+		act_set_t1_hook(a, on_t1, u);
+	}
+}
+
 static void close_out(FILE *f, const char *name)
 {
 	if (f && fclose(f) != 0)
 		cli_die(EXIT_INPUT, "%s: write error", name);
 }
 
-/* The result of one run. */
-struct result {
-	act_end why;
-	act_counts c;
-	double t_end, t_c, l0, l_end, dg_end, lmin, lmax;
-};
-
-/* Run mesh m (already perturbed or continued) from time t0 with junction
- * flags active (NULL: all); j the junction traced (-1: network). */
-static struct result run(const struct opts *o, mesh *m, const model *p,
-                         const unsigned char *active, int j, double t0,
-                         const char *rng, int jfile)
+/* Run m with junction j active (-1: network), outputs numbered jfile. */
+static act_result run(const struct opts *o, mesh *m, const model *p, int j, int jfile)
 {
-	struct run u = { .o = o, .m = m, .j = j, .tty = isatty(2), .lmin = INFINITY,
-			 .lmax = -INFINITY };
+	struct out u = { .o = o, .j = j, .jfile = jfile, .tty = isatty(2) };
+	act_io io = { on_begin, on_row, o->every > 0 ? on_frame : NULL, on_step, &u };
+	act_job_opts jo = { .perturb = o->has_perturb ? o->perturb : -1, .seed = o->seed,
+			    .t_end = o->time, .trace_every = o->trace_every, .every = o->every,
+			    .name = cli_input_name(o->input) };
+	act_result r;
 	mesh_error err;
-	if (act_alloc(m, p, &o->a, active, t0, o->seed, &u.a, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
-	if (rng && act_rng_set(u.a, rng) != MESH_OK)
-		cli_die(EXIT_INPUT, "bad random generator state in the mesh");
-	if (o->trace) {
-		u.trace = open_out(o->trace, jfile);
-		/* the mesh's history without this command's line, which the
-		 * header adds */
-		m->nhist--;
-		cli_table_header(u.trace, m, j >= 0 ? "t\tl\tdg\tldot\tW" :
-				 "t\tf6\tW\tnt1\tdg_mean\tdg_sd\tlmin");
-		m->nhist++;
-	}
-	if (o->events) {
-		u.events = open_out(o->events, jfile);
-		m->nhist--;
-		cli_table_header(u.events, m, "t\tj\tlose1\tlose2\tgain1\tgain2\tl_before");
-		m->nhist++;
-		act_set_t1_hook(u.a, t1_event, &u);
-	}
-	struct result r = { .l0 = j >= 0 ? junction_length(m, m->r, j) : NAN };
-	trace_row(&u, t0);
-	u.ktrace = (long)floor(t0 / o->trace_every) + 1;
-	u.next_trace = u.ktrace * o->trace_every;
-	if (o->every > 0) {
-		u.kframe = (long)floor(t0 / o->every) + 1;
-		u.next_frame = u.kframe * o->every;
-	}
-	if (act_run(u.a, o->time, &cli_stop, observe, &u, &r.why, &err) != MESH_OK)
+	if (act_job(m, p, &o->a, &jo, j, &cli_stop, &io, &r, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	if (r.why == ACT_END_NONFINITE)
 		cli_warn("%s", err.msg);
 	if (u.tty) {
-		progress(&u, 1);
+		progress(&u, r.c.t, r.c.nstep, r.c.nt1);
 		fputc('\n', stderr);
-	}
-	act_counts_get(u.a, &r.c);
-	r.t_end = act_time(u.a);
-	if (u.last_row_t != r.t_end || (u.trace == NULL && j >= 0))
-		trace_row(&u, r.t_end);
-	act_row w;
-	act_row_at(u.a, r.t_end, j >= 0 ? j : (r.c.jcollapse >= 0 ? r.c.jcollapse : -1), &w);
-	r.l_end = w.l;
-	r.dg_end = w.dg;
-	r.lmin = u.lmin;
-	r.lmax = u.lmax;
-	/* l ~ (t_c - t)^(1/2) near the end: t_c - t = l / (2 |dl/dt|) */
-	r.t_c = r.why == ACT_END_COLLAPSE ? r.t_end + w.l / (2 * fabs(w.ldot)) : NAN;
-	if (r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE) {
-		char buf[64], rs[OU_STATE_LEN];
-		snprintf(buf, sizeof buf, "%.17g", r.t_end);
-		if (mesh_state_set(m, "active_t", buf) != MESH_OK ||
-		    act_rng_get(u.a, rs, sizeof rs) != MESH_OK ||
-		    (rs[0] && mesh_state_set(m, "active_rng", rs) != MESH_OK))
-			cli_die(EXIT_INPUT, "cannot record the run state");
-	} else {
-		mesh_state_clear(m);
 	}
 	close_out(u.trace, o->trace);
 	close_out(u.events, o->events);
-	act_free(u.a);
 	return r;
-}
-
-/* Start state: the time and noise stream of an interrupted run, or a
- * mesh at rest (checked) plus the perturbation. */
-static double start(const struct opts *o, mesh *m, const model *p, const unsigned char *active,
-                    char *rng, size_t n)
-{
-	const char *ts = mesh_state_get(m, "active_t");
-	const char *rs = mesh_state_get(m, "active_rng");
-	double t0 = 0;
-	rng[0] = '\0';
-	if (ts) {
-		char *end;
-		t0 = strtod(ts, &end);
-		if (*end != '\0' || !isfinite(t0))
-			cli_die(EXIT_INPUT, "%s: bad state active_t '%s'", cli_input_name(o->input), ts);
-		if (rs)
-			snprintf(rng, n, "%s", rs);
-	}
-	int carries = ts != NULL || m->dg != NULL;
-	double eps = o->has_perturb ? o->perturb : carries ? 0 : PERTURB_DEFAULT;
-	if (!carries) {
-		double f = act_rest_force(m, p);
-		if (!(f <= REST_TOL))
-			cli_die(EXIT_INPUT, "%s: the mesh is not at rest (largest force %.3g > %g at p0 %g, "
-				"ka %g): relax it first (tis-relax)", cli_input_name(o->input), f,
-				REST_TOL, p->p0, p->ka);
-	}
-	if (act_perturb(m, active, eps, o->seed, ts ? NULL : rng, n) != MESH_OK)
-		cli_die(EXIT_INPUT, "out of memory");
-	return t0;
-}
-
-static void history_end(mesh *m, const struct opts *o, const struct result *r)
-{
-	char note[512];
-	/* items split by ';', one of them "t T" (mesh_time reads it) */
-	int len = snprintf(note, sizeof note, "end %s; t %.10g", act_end_name(r->why), r->t_end);
-	if (r->why == ACT_END_COLLAPSE)
-		len += snprintf(note + len, sizeof note - len, ", t_c %.10g", r->t_c);
-	len += snprintf(note + len, sizeof note - len, "; %s, %ld steps, %ld force evaluations, %ld T1s",
-			o->a.scheme == ACT_BDF ? "bdf" : "euler", r->c.nstep, r->c.nfev, r->c.nt1);
-	if (o->a.scheme == ACT_BDF)
-		snprintf(note + len, sizeof note - len, ", %ld factorizations, %ld GMRES iterations",
-			 r->c.nsetup, r->c.nlin);
-	cli_history_note(m, note);
 }
 
 static int one(const struct opts *o, mesh *m, const model *p, int j)
 {
-	unsigned char *active = NULL;
-	if (j >= 0) {
-		active = calloc((size_t)m->nj, 1);
-		if (active == NULL)
-			cli_die(EXIT_INPUT, "out of memory");
-		active[j] = 1;
-	}
-	char rng[OU_STATE_LEN];
-	double t0 = start(o, m, p, active, rng, sizeof rng);
 	/* one run: the file names as given */
-	struct result r = run(o, m, p, active, j, t0, rng[0] ? rng : NULL, -1);
-	history_end(m, o, &r);
+	act_result r = run(o, m, p, j, -1);
+	char note[512];
+	act_note(note, sizeof note, &o->a, &r);
+	cli_history_note(m, note);
 	if (o->every > 0)
 		printf("# %s final t %.10g\n", cli_name, r.t_end);
 	cli_write_mesh(m);
-	free(active);
 	if (r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE) {
 		if (fflush(stdout) != 0)
 			cli_die(EXIT_INPUT, "write error");
@@ -455,21 +345,16 @@ static int several(const struct opts *o, const mesh *m0, const model *p, const i
 	for (int i = 0; i < n && !cli_stop; i++) {
 		int j = sel[i];
 		mesh *m = mesh_copy(m0);
-		unsigned char *active = calloc((size_t)m0->nj, 1);
-		if (m == NULL || active == NULL)
+		if (m == NULL)
 			cli_die(EXIT_INPUT, "out of memory");
-		active[j] = 1;
-		char rng[OU_STATE_LEN];
-		double t0 = start(o, m, p, active, rng, sizeof rng);
-		double l0 = junction_length(m0, m0->r, j);
-		struct result r = run(o, m, p, active, j, t0, rng[0] ? rng : NULL, j);
+		act_result r = run(o, m, p, j, j);
 		printf("%d\t%d\t%d\t%.10g\t%s\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%ld\n", j,
-		       m0->jv[2 * j], m0->jv[2 * j + 1], l0, act_end_name(r.why), r.t_end, r.t_c,
-		       r.l_end, r.dg_end, r.lmin, r.lmax, r.c.nstep);
+		       m0->jv[2 * j], m0->jv[2 * j + 1], junction_length(m0, m0->r, j),
+		       act_end_name(r.why), r.t_end, r.t_c, r.l_end, r.dg_end, r.lmin, r.lmax,
+		       r.c.nstep);
 		fflush(stdout);
 		bad |= r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE;
 		mesh_free(m);
-		free(active);
 	}
 	if (bad || cli_stop) {
 		if (fflush(stdout) != 0)

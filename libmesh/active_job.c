@@ -1,0 +1,197 @@
+/* active_job.c - a whole active run from a mesh: the start state, the
+ * trace rows on a fixed grid, the result and the run state left in the
+ * mesh.  See active.h. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "active.h"
+#include "noise.h"
+
+int act_start(mesh *m, const model *p, const unsigned char *active, const act_job_opts *jo,
+              double *t0, char *rng, size_t n, mesh_error *err)
+{
+	const char *ts = mesh_state_get(m, "active_t");
+	const char *rs = mesh_state_get(m, "active_rng");
+	const char *name = jo->name ? jo->name : "<mesh>";
+	*t0 = 0;
+	rng[0] = '\0';
+	if (ts) {
+		char *end;
+		*t0 = strtod(ts, &end);
+		if (*end != '\0' || !isfinite(*t0))
+			return mesh_error_set(err, 0, MESH_EINVAL, "%s: bad state active_t '%s'",
+					      name, ts);
+		if (rs)
+			snprintf(rng, n, "%s", rs);
+	}
+	int carries = ts != NULL || m->dg != NULL;
+	double eps = jo->perturb >= 0 ? jo->perturb : carries ? 0 : ACT_PERTURB_DEFAULT;
+	if (!carries) {
+		double f = act_rest_force(m, p);
+		if (!(f <= ACT_REST_TOL))
+			return mesh_error_set(err, 0, MESH_EINVAL,
+					      "%s: the mesh is not at rest (largest force %.3g > %g at "
+					      "p0 %g, ka %g): relax it first (tis-relax)", name, f,
+					      ACT_REST_TOL, p->p0, p->ka);
+	}
+	/* a continued run keeps its noise stream; a new one continues the
+	 * perturbation's */
+	if (act_perturb(m, active, eps, jo->seed, ts ? NULL : rng, n) != MESH_OK)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	return MESH_OK;
+}
+
+/* A run in progress: the integrator, the grid of rows and frames. */
+struct job {
+	act *a;
+	mesh *m;
+	const act_opts *o;
+	const act_job_opts *jo;
+	const act_io *io;
+	int j;               /* the junction of l, dg (-1: none) */
+	double next_row, next_frame, last_row_t;
+	long krow, kframe;
+	double lmin, lmax;
+	int bad;             /* a sample failed */
+	double bad_t;
+};
+
+static void row(struct job *u, double t)
+{
+	act_row w;
+	if (act_row_at(u->a, t, u->j, &w) != MESH_OK) {
+		if (!u->bad)
+			u->bad_t = t;
+		u->bad = 1;
+		return;
+	}
+	if (u->j >= 0) {
+		u->lmin = w.l < u->lmin ? w.l : u->lmin;
+		u->lmax = w.l > u->lmax ? w.l : u->lmax;
+	}
+	u->last_row_t = t;
+	if (u->io->row)
+		u->io->row(u->io->data, &w);
+}
+
+/* After every step: the rows due (bdf's own interpolant between its step
+ * ends, euler's step itself), the frame due, the caller's step. */
+static int observe(act *a, void *data)
+{
+	struct job *u = data;
+	double t = act_time(a);
+	double dt = u->jo->trace_every;
+	while (u->next_row <= t) {
+		int interp = u->o->scheme == ACT_BDF && u->next_row >= act_time_prev(a);
+		row(u, interp ? u->next_row : t);
+		if (interp)
+			u->next_row = ++u->krow * dt;
+		else
+			while (u->next_row <= t)
+				u->next_row = ++u->krow * dt;
+	}
+	if (u->jo->every > 0 && t >= u->next_frame) {
+		if (u->io->frame)
+			u->io->frame(u->io->data, u->m, t);
+		while (u->next_frame <= t)
+			u->next_frame = ++u->kframe * u->jo->every;
+	}
+	if (u->io->step)
+		u->io->step(u->io->data, a);
+	return u->bad;
+}
+
+/* The state lines a continued run needs, or none for a run that ended. */
+static int record_state(mesh *m, const act *a, act_end why)
+{
+	if (why != ACT_END_STOP && why != ACT_END_NONFINITE) {
+		mesh_state_clear(m);
+		return MESH_OK;
+	}
+	char buf[64], rs[OU_STATE_LEN];
+	snprintf(buf, sizeof buf, "%.17g", act_time(a));
+	if (mesh_state_set(m, "active_t", buf) != MESH_OK ||
+	    act_rng_get(a, rs, sizeof rs) != MESH_OK ||
+	    (rs[0] && mesh_state_set(m, "active_rng", rs) != MESH_OK))
+		return MESH_ENOMEM;
+	return MESH_OK;
+}
+
+int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, int j,
+            volatile sig_atomic_t *stop, const act_io *io, act_result *r, mesh_error *err)
+{
+	static const act_io none = { 0 };
+	unsigned char *active = NULL;
+	struct job u = { .m = m, .o = o, .jo = jo, .io = io ? io : &none, .j = j,
+			 .lmin = INFINITY, .lmax = -INFINITY };
+	char rng[OU_STATE_LEN];
+	double t0;
+	int st;
+	if (j >= 0) {
+		if (j >= m->nj)
+			return mesh_error_set(err, 0, MESH_EDOM, "no junction %d", j);
+		active = calloc((size_t)m->nj, 1);
+		if (active == NULL)
+			return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		active[j] = 1;
+	}
+	if ((st = act_start(m, p, active, jo, &t0, rng, sizeof rng, err)) != MESH_OK)
+		goto out;
+	if ((st = act_alloc(m, p, o, active, t0, jo->seed, &u.a, err)) != MESH_OK)
+		goto out;
+	if (rng[0] && act_rng_set(u.a, rng) != MESH_OK) {
+		st = mesh_error_set(err, 0, MESH_EINVAL, "bad random generator state in the mesh");
+		goto out;
+	}
+	if (u.io->begin)
+		u.io->begin(u.io->data, u.a, m);
+	row(&u, t0);
+	u.krow = (long)floor(t0 / jo->trace_every) + 1;
+	u.next_row = u.krow * jo->trace_every;
+	if (jo->every > 0) {
+		u.kframe = (long)floor(t0 / jo->every) + 1;
+		u.next_frame = u.kframe * jo->every;
+	}
+	if (!u.bad && (st = act_run(u.a, jo->t_end, stop, observe, &u, &r->why, err)) != MESH_OK)
+		goto out;
+	if (!u.bad) {
+		act_counts_get(u.a, &r->c);
+		r->t_end = act_time(u.a);
+		if (u.last_row_t != r->t_end)
+			row(&u, r->t_end);
+	}
+	if (u.bad) {
+		st = mesh_error_set(err, 0, MESH_EINVAL, "interpolation failed at t %g", u.bad_t);
+		goto out;
+	}
+	act_row w = { .l = NAN, .dg = NAN };
+	act_row_at(u.a, r->t_end, j >= 0 ? j : r->c.jcollapse, &w);
+	r->l_end = w.l;
+	r->dg_end = w.dg;
+	r->lmin = u.lmin;
+	r->lmax = u.lmax;
+	/* l ~ (t_c - t)^(1/2) near the end: t_c - t = l / (2 |dl/dt|) */
+	r->t_c = r->why == ACT_END_COLLAPSE ? r->t_end + w.l / (2 * fabs(w.ldot)) : NAN;
+	if (record_state(m, u.a, r->why) != MESH_OK)
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "cannot record the run state");
+out:
+	act_free(u.a);
+	free(active);
+	return st;
+}
+
+int act_note(char *buf, size_t n, const act_opts *o, const act_result *r)
+{
+	int len = snprintf(buf, n, "end %s; t %.10g", act_end_name(r->why), r->t_end);
+	if (r->why == ACT_END_COLLAPSE)
+		len += snprintf(buf + len, n > (size_t)len ? n - len : 0, ", t_c %.10g", r->t_c);
+	len += snprintf(buf + len, n > (size_t)len ? n - len : 0,
+			"; %s, %ld steps, %ld force evaluations, %ld T1s",
+			o->scheme == ACT_BDF ? "bdf" : "euler", r->c.nstep, r->c.nfev, r->c.nt1);
+	if (o->scheme == ACT_BDF)
+		len += snprintf(buf + len, n > (size_t)len ? n - len : 0,
+				", %ld factorizations, %ld GMRES iterations", r->c.nsetup, r->c.nlin);
+	return len;
+}
