@@ -40,6 +40,12 @@ struct dyn {
 	long nt1_sorted;      /* T1s since the cells were last renumbered */
 	int have_lprev;
 	int have_dprev;       /* jd holds the last step's vectors (T1s off) */
+	/* The half-box rule of the mesh format: no junction may reach
+	 * min(lx, ly)/2.  lmax is the longest junction when last measured;
+	 * no junction has grown by more than 2 ldisp since, so lengths are
+	 * measured again only when lmax + 2 ldisp nears the limit. */
+	double lmax, ldisp;
+	int lmax_ok;
 	dyn_counts c;
 };
 
@@ -364,6 +370,28 @@ static int settle(dyn *d, double t_end, double lshort)
 	return 1;
 }
 
+/* The longest junction after moving every vertex by -dt f (the step about
+ * to be taken, with the same arithmetic); *jlong is that junction. */
+static double trial_lmax(const dyn *d, const double *f, double dt, int *jlong)
+{
+	const mesh *m = d->m;
+	const double *r = m->r;
+	double l2max = 0;
+	*jlong = 0;
+	for (int j = 0; j < m->nj; j++) {
+		int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+		double dx = (r[2 * b] - dt * f[2 * b]) - (r[2 * a] - dt * f[2 * a]) + m->jimg[2 * j];
+		double dy = (r[2 * b + 1] - dt * f[2 * b + 1]) - (r[2 * a + 1] - dt * f[2 * a + 1]) +
+			    m->jimg[2 * j + 1];
+		double q = dx * dx + dy * dy;
+		if (!(q <= l2max)) {
+			l2max = q;
+			*jlong = j;
+		}
+	}
+	return sqrt(l2max);
+}
+
 int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
             dyn_observer obs, void *data, mesh_error *err)
 {
@@ -386,6 +414,10 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 	d->margin = 20 * o.dr_max;
 	d->cand_ok = 0;
 	double fsettle = o.sigma == 0 && !feedback ? o.settle : 0;
+	/* a little short of half the box, so that the wrapped coordinates a
+	 * writer puts out still pass the reader's test */
+	const double lhalf = 0.5 * (m->lx < m->ly ? m->lx : m->ly) * (1 - 1e-9);
+	d->lmax_ok = 0;
 
 	while (d->c.t < t_end && !(stop && *stop)) {
 		if (t1on) {
@@ -398,6 +430,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			if (lmin < thr2) {
 				if ((st = do_t1s(d, err)) != MESH_OK)
 					return st;
+				d->lmax_ok = 0;   /* T1s moved vertices */
 				/* T1s scatter neighbouring cells over the cell
 				 * table, and a T1's cost grows with the spread;
 				 * renumbering costs about as much as 10 T1s */
@@ -428,7 +461,8 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			f2 = q[0] + q[1] > f2 ? q[0] + q[1] : f2;
 		}
 		if (!isfinite(f2))
-			return mesh_error_set(err, 0, MESH_EDOM, "forces became non-finite at t = %.6g", d->c.t);
+			return mesh_error_set(err, 0, MESH_EDOM, "forces became non-finite at step %ld, "
+			                      "t = %.10g", d->c.nstep, d->c.t);
 		double fmax = sqrt(f2);
 		if (fmax <= fsettle && tensions_below(m, fsettle)) {
 			int done = settle(d, t_end, t1on ? o.t1_length : o.l_stop);
@@ -449,6 +483,18 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			dt = t_end - d->c.t;
 			last = 1;
 		}
+		if (!d->lmax_ok || d->lmax + 2 * (d->ldisp + dt * fmax) >= lhalf) {
+			int jl;
+			double lm = trial_lmax(d, f, dt, &jl);
+			if (!(lm < lhalf))
+				return mesh_error_set(err, 0, MESH_EDOM, "junction %d-%d would grow to "
+				                      "length %.6g, not shorter than half the box (%.6g), "
+				                      "at step %ld, t = %.10g", m->jv[2 * jl],
+				                      m->jv[2 * jl + 1], lm, lhalf, d->c.nstep, d->c.t);
+			d->lmax = lm;
+			d->ldisp = -dt * fmax;   /* measured after this step */
+			d->lmax_ok = 1;
+		}
 		if (feedback) {
 			/* dl/dt = e.(F_b - F_a) with F = -f; the increment is applied
 			 * after the exact OU step */
@@ -462,12 +508,17 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				double ldot = -(jd[3 * j] * (f[2 * b] - f[2 * a]) +
 						jd[3 * j + 1] * (f[2 * b + 1] - f[2 * a + 1])) / l;
 				d->ldot[j] = -dt * (o.gamma0 + dg[j]) * ldot / l;
+				if (!isfinite(d->ldot[j]))
+					return mesh_error_set(err, 0, MESH_EDOM, "the tension of junction "
+					                      "%d-%d became non-finite at step %ld, t = %.10g",
+					                      a, b, d->c.nstep, d->c.t);
 			}
 		}
 		v2d *rv = (v2d *)r;
 		for (int v = 0; v < nv; v++)
 			rv[v] -= dt * fv[v];
 		d->disp += dt * fmax;
+		d->ldisp += dt * fmax;
 		if (dg) {
 			if (o.ou_dt == 0) {
 				ou_step(d->noise, dg, nj, d->active, dt, o.tau, o.sigma);

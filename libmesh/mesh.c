@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "range.h"
+
 /* Counts above this are rejected before anything is allocated, so that a
  * corrupt header cannot ask for more memory than the index type can hold. */
 #define MESH_MAX_COUNT (INT_MAX / 8)
@@ -743,10 +745,7 @@ static int next_line(reader *rd)
 
 static int parse_double(const char *s, double *v)
 {
-	char *end;
-	errno = 0;
-	*v = strtod(s, &end);
-	return end != s && *end == '\0' && errno != ERANGE && isfinite(*v);
+	return range_number(s, v);
 }
 
 static int parse_int(const char *s, long lo, long hi, int *v)
@@ -807,8 +806,9 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 			if (rd->ntok != 3 || !parse_double(rd->tok[1], &m->lx) ||
 			    !parse_double(rd->tok[2], &m->ly))
 				BAD("expected 'box LX LY' with two finite numbers");
-			if (!(m->lx > 0 && m->ly > 0))
-				BAD("box sides must be positive");
+			mesh_error e2;
+			if (range_box(m->lx, m->ly, &e2) != MESH_OK)
+				BAD("%s", e2.msg);
 			have_box = 1;
 		} else if (strcmp(k, "param") == 0) {
 			double v;
@@ -817,6 +817,9 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 			const char *nm = rd->tok[1];
 			if (!name_ok(nm))
 				BAD("bad parameter name '%.40s'", nm);
+			mesh_error e2;
+			if (range_param(nm, v, &e2) != MESH_OK)
+				BAD("%s", e2.msg);
 			if (mesh_param_set(m, nm, v) != MESH_OK)
 				NOMEM();
 		} else if (strcmp(k, "state") == 0) {

@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "range.h"
+
 const char *cli_name = "tis";
 static const char *cli_usage_line = "";
 static int cli_argc;
@@ -24,6 +26,9 @@ void cli_init(const char *name, const char *usage, int argc, char *const argv[])
 		cli_die(EXIT_INPUT, "out of memory");
 	memcpy(cli_argv, argv, ((size_t)argc + 1) * sizeof *cli_argv);
 	opterr = 0; /* getopt's own messages would name argv[0], not cli_name */
+	/* a reader that goes away must not kill us in the middle of a record:
+	 * the write fails with EPIPE instead, and we say so (cli_write_error) */
+	signal(SIGPIPE, SIG_IGN);
 	/* GSL's default handler aborts; libmesh checks GSL's status codes */
 	gsl_set_error_handler_off();
 }
@@ -87,12 +92,28 @@ void cli_version(void)
 
 double cli_double(const char *opt, const char *arg)
 {
-	char *end;
-	errno = 0;
-	double v = strtod(arg, &end);
-	if (end == arg || *end != '\0' || errno == ERANGE || !isfinite(v))
+	double v;
+	if (!range_number(arg, &v))
 		cli_usage_error("%s: not a finite number: '%s'", opt, arg);
 	return v;
+}
+
+double cli_param(const char *opt, const char *arg, const char *name)
+{
+	double v = cli_double(opt, arg);
+	mesh_error err;
+	if (range_param(name, v, &err) != MESH_OK)
+		cli_usage_error("%s: %s", opt, err.msg);
+	return v;
+}
+
+void cli_box(const char *ax, const char *ay, double *lx, double *ly)
+{
+	*lx = cli_double("--box", ax);
+	*ly = cli_double("--box", ay);
+	mesh_error err;
+	if (range_box(*lx, *ly, &err) != MESH_OK)
+		cli_usage_error("--box: %s", err.msg);
 }
 
 double cli_double_range(const char *opt, const char *arg, double lo, double hi)
@@ -147,18 +168,69 @@ mesh *cli_read_one(const char *path)
 {
 	FILE *f = cli_open(path);
 	long line = 0;
-	mesh *m;
+	mesh *m, *more;
 	if (!cli_read_mesh(f, path, &line, &m))
 		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(path));
+	/* the rest of the input must be empty: a second mesh or garbage after
+	 * the first is a mistake (cat a b |), not something to ignore */
+	if (cli_read_mesh(f, path, &line, &more))
+		cli_die(EXIT_INPUT, "%s:%ld: a second mesh, but %s reads one", cli_input_name(path),
+		        line, cli_name);
 	if (f != stdin)
 		fclose(f);
 	return m;
 }
 
+void cli_write_error(const char *what)
+{
+	if (errno == EPIPE)
+		cli_die(EXIT_NOCONV, "%s closed early (broken pipe): output incomplete", what);
+	cli_die(EXIT_INPUT, "%s: write error: %s", what, strerror(errno));
+}
+
+int cli_mesh_check(const mesh *m, mesh_error *err)
+{
+	mesh *c = mesh_copy(m);
+	if (c == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	mesh_wrap(c);
+	int st = mesh_build(c, NULL, err);
+	mesh_free(c);
+	return st;
+}
+
 void cli_write_mesh(const mesh *m)
 {
-	if (mesh_write(stdout, m) != MESH_OK)
-		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
+	/* the reader's rules, on what the reader will see (wrapped
+	 * coordinates): a program never writes a mesh that it rejects */
+	mesh_error err;
+	int st = cli_mesh_check(m, &err);
+	if (st == MESH_ENOMEM)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (st != MESH_OK)
+		cli_die(EXIT_NOCONV, "the result is not a valid mesh (%s): not written", err.msg);
+	errno = 0;
+	if (mesh_write(stdout, m) != MESH_OK || fflush(stdout) != 0)
+		cli_write_error("stdout");
+}
+
+void cli_history_note(mesh *m, const char *fmt, ...)
+{
+	char note[1024];
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(note, sizeof note, fmt, ap);
+	va_end(ap);
+	if (m->nhist == 0 && mesh_history_add(m, "") != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
+	char *h = m->hist[m->nhist - 1];
+	size_t n = strlen(h) + strlen(note) + 4;
+	char *s = realloc(h, n);
+	if (s == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	strcat(s, " # ");
+	strcat(s, note);
+	m->hist[m->nhist - 1] = s;
 }
 
 void cli_table_header(FILE *f, const mesh *m, const char *cols)
@@ -181,17 +253,34 @@ void cli_history(mesh *m)
 		cli_die(EXIT_INPUT, "out of memory");
 }
 
+static void close_stdout(void)
+{
+	errno = 0;
+	if (fflush(stdout) != 0 || ferror(stdout) || fclose(stdout) != 0)
+		cli_write_error("stdout");
+}
+
 void cli_finish(void)
 {
-	if (fflush(stdout) != 0 || ferror(stdout) || fclose(stdout) != 0)
-		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
+	close_stdout();
 	exit(0);
+}
+
+void cli_finish_status(int status, const char *fmt, ...)
+{
+	close_stdout();
+	if (fmt) {
+		va_list ap;
+		va_start(ap, fmt);
+		vmsg(fmt, ap);
+		va_end(ap);
+	}
+	exit(status);
 }
 
 static void on_signal(int sig)
 {
-	(void)sig;
-	cli_stop = 1;
+	cli_stop = sig;
 }
 
 void cli_catch_signals(void)
@@ -200,6 +289,14 @@ void cli_catch_signals(void)
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;
 	sigemptyset(&sa.sa_mask);
+	/* reads and writes go on after the signal: a program reading its
+	 * input when told to stop still gets the record being written to it */
+	sa.sa_flags = SA_RESTART;
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
+}
+
+const char *cli_stop_name(void)
+{
+	return cli_stop == SIGINT ? "SIGINT" : cli_stop == SIGTERM ? "SIGTERM" : "a signal";
 }

@@ -1,5 +1,6 @@
 /* tis-anneal - fluidize, quench and relax a tissue with OU tension noise
  * and T1 transitions (the paper's sample preparation). */
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdlib.h>
@@ -124,8 +125,8 @@ static struct opts parse(int argc, char **argv)
 		case O_RELAX: o.relax = cli_double_range("--relax", optarg, 0, 1e9); break;
 		case O_TAU: o.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
 		case O_SEED: o.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_P0: o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
+		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
 		case O_EVERY: o.every = cli_double_range("--every", optarg, 1e-6, 1e9); break;
 		case O_LOG: o.log = optarg; break;
 		case O_LOGEVERY: o.log_every = cli_double_range("--log-every", optarg, 1e-6, 1e9); break;
@@ -175,15 +176,23 @@ struct run {
 	int stage, nstage;
 	int tty;
 	time_t last_progress;
+	int log_errno;        /* the log could not be written: stop */
+	char why[300];        /* why the run stopped early, "" if it did not */
 };
 
 static void log_row(struct run *u)
 {
+	if (u->log_errno)
+		return;
 	dyn_counts c;
 	dyn_counts_get(u->d, &c);
+	errno = 0;
 	fprintf(u->log, "%.10g\t%.6f\t%.12g\t%ld\n", c.t,
 		(double)count_hex(u->m) / u->m->nc, dyn_energy(u->d), c.nt1);
-	fflush(u->log);   /* a long run can be watched with tail -f */
+	/* flushed: a long run can be watched with tail -f, and a full disk
+	 * is noticed now, not at the end */
+	if (fflush(u->log) != 0 || ferror(u->log))
+		u->log_errno = errno ? errno : EIO;
 }
 
 static void progress(struct run *u, int force)
@@ -218,29 +227,29 @@ static int observe(dyn *d, void *data)
 	}
 	if (u->tty && (c.nstep & 4095) == 0)
 		progress(u, 0);
-	return 0;
+	return u->log_errno != 0;
 }
 
-/* Run to cumulative time t_end; 0 when interrupted. */
+/* Run to cumulative time t_end; 0 when the run stopped early (u->why
+ * says why; the mesh is the last valid state). */
 static int run_to(struct run *u, double t_end)
 {
 	mesh_error err;
-	if (dyn_run(u->d, t_end, &cli_stop, observe, u, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
-	return !cli_stop;
-}
-
-/* Append a shell comment to the last history line (the command line). */
-static void history_note(mesh *m, const char *note)
-{
-	char *h = m->hist[m->nhist - 1];
-	size_t n = strlen(h) + strlen(note) + 4;
-	char *s = realloc(h, n);
-	if (s == NULL)
+	int st = dyn_run(u->d, t_end, &cli_stop, observe, u, &err);
+	if (st == MESH_ENOMEM)
 		cli_die(EXIT_INPUT, "out of memory");
-	strcat(s, " # ");
-	strcat(s, note);
-	m->hist[m->nhist - 1] = s;
+	if (st != MESH_OK)
+		snprintf(u->why, sizeof u->why, "stopped: %s", err.msg);
+	else if (u->log_errno)
+		snprintf(u->why, sizeof u->why, "stopped: %s: write error: %s", u->o->log,
+		         strerror(u->log_errno));
+	else if (cli_stop) {
+		dyn_counts c;
+		dyn_counts_get(u->d, &c);
+		snprintf(u->why, sizeof u->why, "interrupted by %s at step %ld, t = %.10g",
+		         cli_stop_name(), c.nstep, c.t);
+	}
+	return u->why[0] == '\0';
 }
 
 int main(int argc, char **argv)
@@ -263,6 +272,8 @@ int main(int argc, char **argv)
 		if (u.log == NULL)
 			cli_die(EXIT_INPUT, "%s: cannot open for writing", o.log);
 		fprintf(u.log, "# t\tf6\tenergy\tt1\n");
+		if (fflush(u.log) != 0)
+			u.log_errno = errno ? errno : EIO;
 	}
 	mesh_error err;
 	if (dyn_alloc(m, &p, &o.d, o.seed, &u.d, &err) != MESH_OK)
@@ -327,24 +338,27 @@ int main(int argc, char **argv)
 				"Newton minimization at fixed topology once max force and tension <= %g "
 				"(settle), covering %.10g time units", c.nsettle, o.d.settle, c.t_settled);
 	if (!done)
-		snprintf(note + len, sizeof note - len, "; interrupted");
-	history_note(m, note);
+		snprintf(note + len, sizeof note - len, "; %s", u.why);
+	cli_history_note(m, "%s", note);
 
 	if (u.log) {
-		if (!done)
+		if (!done) {
 			log_row(&u);
-		if (fclose(u.log) != 0)
-			cli_die(EXIT_INPUT, "%s: write error", o.log);
+			fprintf(u.log, "# %s %s\n", cli_name, u.why);
+		}
+		errno = 0;
+		if ((ferror(u.log) || fclose(u.log) != 0) && !u.log_errno)
+			u.log_errno = errno ? errno : EIO;
 	}
 	if (o.every > 0)
 		printf("# %s final t %.10g\n", cli_name, c.t);
 	cli_write_mesh(m);
 	dyn_free(u.d);
 	mesh_free(m);
-	if (!done) {
-		if (fflush(stdout) != 0)
-			cli_die(EXIT_INPUT, "write error");
-		cli_die(EXIT_NOCONV, "interrupted at t %.6g, wrote the current mesh", c.t);
-	}
+	if (u.log_errno)
+		cli_finish_status(EXIT_INPUT, "%s: write error: %s%s", o.log, strerror(u.log_errno),
+		                  done ? "" : "; wrote the mesh where the run stopped");
+	if (!done)
+		cli_finish_status(EXIT_NOCONV, "%s: wrote the last valid mesh", u.why);
 	cli_finish();
 }

@@ -127,8 +127,8 @@ static struct opts parse(int argc, char **argv)
 			break;
 		case O_SEED: o.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
 		case O_ALL: set_sel(&o, SEL_ALL); break;
-		case O_P0: o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
+		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
 		case O_STEP: o.fl.step = cli_double_range("--step", optarg, 1e-9, 10); break;
 		case O_RANGE: o.fl.range = cli_double_range("--range", optarg, 0, 100); break;
 		case O_LMIN: o.fl.lmin = cli_double_range("--lmin", optarg, 1e-9, 100); break;
