@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "fit.h"
+#include "range.h"
 
 static const char usage[] =
 	"[--degree N] [--window W] [--branch out|back|all] [--cusps [--threshold T]] [--summary] [TABLE]";
@@ -197,10 +198,8 @@ static int split(char *s, char **fld, int max)
 
 static double num(const char *s, const char *col, long line)
 {
-	char *end;
-	errno = 0;
-	double v = strtod(s, &end);
-	if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v))
+	double v;
+	if (!range_number(s, &v))
 		cli_die(EXIT_INPUT, "%s:%ld: column %s: not a finite number: '%s'",
 		        input_name, line, col, s);
 	return v;
@@ -219,18 +218,20 @@ int main(int argc, char **argv)
 	char *buf = NULL;
 	size_t bufsz = 0;
 	long line = 0;
-	int rows = 0;
-	if (o.cusps)
-		printf("# p0\tj\ta\tb\tl0\tfrom\tto\tnpts\thas_l0\n");
-	else if (o.summary)
-		printf("# p0\tn\ta1_q1\ta1_med\ta1_q3\ta3_q1\ta3_med\ta3_q3\n");
-	else
-		printf("# p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\n");
-
-	while (getline(&buf, &bufsz, in) != -1) {
+	int rows = 0, interrupted = 0;
+	ssize_t got;
+	while ((got = getline(&buf, &bufsz, in)) != -1) {
 		line++;
 		char *fld[64];
 		char *s = buf + strspn(buf, " \t");
+		/* every writer ends its lines: a last line without a newline is
+		 * a table cut off (head -c, a full disk, a killed writer) */
+		if (buf[got - 1] != '\n')
+			cli_die(EXIT_INPUT, "%s:%ld: the input ends in the middle of a line (cut off)",
+			        input_name, line);
+		/* the mark of a writer that was stopped: fewer curves than asked */
+		if (*s == '#' && strstr(s, " interrupted by "))
+			interrupted = 1;
 		if (*s == '#') {
 			/* A header (again, when tables were concatenated): find the
 			 * columns by name; other comments are skipped. */
@@ -278,7 +279,15 @@ int main(int argc, char **argv)
 		if (!isrest && !isout && !isback)
 			cli_die(EXIT_INPUT, "%s:%ld: column dir: expected rest, out or back, got '%s'",
 			        input_name, line, dir);
-		rows++;
+		if (rows++ == 0) {
+			/* the header waits for a valid row: bad input leaves no output */
+			if (o.cusps)
+				printf("# p0\tj\ta\tb\tl0\tfrom\tto\tnpts\thas_l0\n");
+			else if (o.summary)
+				printf("# p0\tn\ta1_q1\ta1_med\ta1_q3\ta3_q1\ta3_med\ta3_q3\n");
+			else
+				printf("# p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\n");
+		}
 		if (c.n > 0 && (c.p0 != p0 || c.j != (long)jd || c.l0 != l0))
 			finish_curve(&o, &c);
 		if (c.n == 0) {
@@ -328,5 +337,11 @@ int main(int argc, char **argv)
 	free(c.l);
 	free(c.f);
 	free(buf);
+	if (interrupted) {
+		printf("# %s: the input table is marked interrupted: these are fits of the "
+		       "curves it has\n", cli_name);
+		cli_finish_status(EXIT_NOCONV, "%s: the input is marked interrupted (a writer "
+		                  "was stopped): fitted the whole curves it has", input_name);
+	}
 	cli_finish();
 }

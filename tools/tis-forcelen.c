@@ -1,9 +1,12 @@
 /* tis-forcelen - quasistatic force-extension curves f(l) of junctions. */
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
@@ -218,8 +221,10 @@ static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 }
 
 /* Work shared by the sweep threads: junction k of sel goes to whichever
- * thread asks next, its points into res[k], so the output order does not
- * depend on the threads. */
+ * thread asks next, its points into res[k].  Curves are written in the
+ * order of sel as soon as they and all before them are complete, so the
+ * output does not depend on the threads and a run killed by its batch
+ * system keeps every curve finished so far. */
 struct job {
 	const mesh *m;
 	const model *p;
@@ -229,9 +234,67 @@ struct job {
 	fl_point **res;
 	int *nres, *status;
 	int next;
+	int out;           /* curves 0..out-1 are written (or skipped) */
+	int written;       /* whole curves written */
+	int rows, badpoints;
+	double worst;
+	int tty;
+	time_t last_progress;
+	int werr;          /* errno of a failed write to stdout */
 	pthread_mutex_t lock;
 	int oom;
 };
+
+/* Whether curve k is finished: swept to its last point.  An interrupted
+ * sweep ends early (fewer points): it is never written. */
+static int complete(const struct job *jb, int k)
+{
+	int st = jb->status[k];
+	return (st == MESH_OK || st == MESH_ENOCONV) &&
+	       jb->nres[k] == fl_npoints(jb->m, jb->sel[k], jb->fl);
+}
+
+static void write_curve(struct job *jb, int k)
+{
+	const mesh *m = jb->m;
+	int j = jb->sel[k];
+	double l0 = junction_length(m, m->r, j);
+	for (int i = 0; i < jb->nres[k]; i++) {
+		const fl_point *q = &jb->res[k][i];
+		printf("%.10g\t%d\t%d\t%d\t%.12g\t%s\t%.12g\t%.12g\t%.15g\t%.3g\n",
+		       jb->p->p0, j, m->jv[2 * j], m->jv[2 * j + 1], l0,
+		       fl_dir_name(q->dir), q->l, q->f, q->W, q->fres);
+		jb->rows++;
+		if (q->status != MESH_OK) {
+			jb->badpoints++;
+			if (!(q->fres <= jb->worst))
+				jb->worst = q->fres;
+		}
+	}
+	errno = 0;
+	if (fflush(stdout) != 0 || ferror(stdout)) {
+		jb->werr = errno ? errno : EIO;
+		cli_stop = SIGPIPE;   /* nobody reads the rest: stop the sweeps */
+	}
+	jb->written++;
+}
+
+/* With the lock held: write the curves that are now next in order. */
+static void flush_curves(struct job *jb)
+{
+	while (jb->out < jb->count && jb->status[jb->out] != -1 && !jb->werr) {
+		int k = jb->out++;
+		if (complete(jb, k))
+			write_curve(jb, k);
+	}
+	if (jb->tty) {
+		time_t now = time(NULL);
+		if (now != jb->last_progress || jb->out == jb->count) {
+			jb->last_progress = now;
+			fprintf(stderr, "\r%s: %d/%d curves   ", cli_name, jb->out, jb->count);
+		}
+	}
+}
 
 static void *worker(void *arg)
 {
@@ -247,7 +310,11 @@ static void *worker(void *arg)
 			break;
 		int st = fl_sweep(jb->m, jb->p, jb->sel[k], jb->fl, w, jb->res[k],
 		                  &jb->nres[k], &cli_stop);
+		pthread_mutex_lock(&jb->lock);
 		jb->status[k] = st;
+		if (st == MESH_OK || st == MESH_ENOCONV)
+			flush_curves(jb);
+		pthread_mutex_unlock(&jb->lock);
 	}
 	fl_work_free(w);
 	return NULL;
@@ -295,12 +362,10 @@ int main(int argc, char **argv)
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;
-	int nmesh = 0, badpoints = 0, allpoints = 0;
+	int nmesh = 0, badpoints = 0, allpoints = 0, written = 0, asked = 0;
 	double worst = 0;
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
-		/* the header waits for a valid mesh: bad input leaves no output */
-		if (nmesh++ == 0)
-			print_header(o.linear);
+		nmesh++;
 		model p = model_from_mesh(m);
 		if (o.has_p0)
 			p.p0 = o.p0;
@@ -309,6 +374,10 @@ int main(int argc, char **argv)
 		relax_input(m, &p, &o);
 		int count;
 		int *sel = select_junctions(&o, m, &count);
+		/* the header waits for a valid mesh and junction: bad input
+		 * leaves no output */
+		if (nmesh == 1)
+			print_header(o.linear);
 
 		if (o.linear) {
 			fl_linear *lr;
@@ -330,7 +399,8 @@ int main(int argc, char **argv)
 			continue;
 		}
 
-		struct job jb = { .m = m, .p = &p, .fl = &o.fl, .sel = sel, .count = count };
+		struct job jb = { .m = m, .p = &p, .fl = &o.fl, .sel = sel, .count = count,
+		                  .tty = isatty(2) };
 		jb.res = calloc((size_t)count + 1, sizeof *jb.res);
 		jb.nres = calloc((size_t)count + 1, sizeof *jb.nres);
 		jb.status = calloc((size_t)count + 1, sizeof *jb.status);
@@ -353,30 +423,30 @@ int main(int argc, char **argv)
 		for (int t = 1; t <= started; t++)
 			pthread_join(tid[t], NULL);
 		pthread_mutex_destroy(&jb.lock);
+		if (jb.tty)
+			fputc('\n', stderr);
 		if (jb.oom)
 			cli_die(EXIT_INPUT, "out of memory");
-
-		for (int k = 0; k < count; k++) {
-			int j = sel[k], st = jb.status[k];
-			if (st == -1 || (cli_stop && st != MESH_OK && st != MESH_ENOCONV))
-				break;   /* interrupted: only whole curves are written */
-			if (st != MESH_OK && st != MESH_ENOCONV)
-				cli_die(EXIT_INPUT, "junction %d: %s", j,
-				        st == MESH_ENOMEM ? "out of memory" : "sweep failed");
-			double l0 = junction_length(m, m->r, j);
-			for (int i = 0; i < jb.nres[k]; i++) {
-				const fl_point *q = &jb.res[k][i];
-				printf("%.10g\t%d\t%d\t%d\t%.12g\t%s\t%.12g\t%.12g\t%.15g\t%.3g\n",
-				       p.p0, j, m->jv[2 * j], m->jv[2 * j + 1], l0,
-				       fl_dir_name(q->dir), q->l, q->f, q->W, q->fres);
-				allpoints++;
-				if (q->status != MESH_OK) {
-					badpoints++;
-					if (!(q->fres <= worst))
-						worst = q->fres;
-				}
-			}
+		if (jb.werr) {
+			errno = jb.werr;
+			cli_write_error("stdout");
 		}
+		for (int k = 0; k < count; k++) {
+			int st = jb.status[k];
+			if (st != -1 && st != MESH_OK && st != MESH_ENOCONV)
+				cli_die(EXIT_INPUT, "junction %d: %s", sel[k],
+				        st == MESH_ENOMEM ? "out of memory" : "sweep failed");
+		}
+		/* stopped: the whole curves after the first unfinished one */
+		for (int k = jb.out; k < count; k++)
+			if (jb.status[k] != -1 && complete(&jb, k))
+				write_curve(&jb, k);
+		written += jb.written;
+		asked += count;
+		badpoints += jb.badpoints;
+		allpoints += jb.rows;
+		if (!(jb.worst <= worst))
+			worst = jb.worst;
 		for (int k = 0; k < count; k++)
 			free(jb.res[k]);
 		free(jb.res);
@@ -388,15 +458,16 @@ int main(int argc, char **argv)
 	if (in != stdin)
 		fclose(in);
 	if (cli_stop) {
-		fflush(stdout);
-		cli_die(EXIT_INPUT, "interrupted: only finished curves were written");
+		printf("# %s interrupted by %s: %d of %d curves written%s, whole curves only\n",
+		       cli_name, cli_stop_name(), written, asked,
+		       nmesh > 1 ? " (of the meshes read so far)" : "");
+		cli_finish_status(EXIT_NOCONV, "interrupted by %s: wrote %d of %d curves, "
+		                  "whole curves only", cli_stop_name(), written, asked);
 	}
 	if (nmesh == 0)
 		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
-	if (badpoints) {
-		fflush(stdout);
-		cli_die(EXIT_NOCONV, "%d of %d points missed the force tolerance %g (worst %.3g)",
-		        badpoints, allpoints, o.fl.min.ftol, worst);
-	}
+	if (badpoints)
+		cli_finish_status(EXIT_NOCONV, "%d of %d points missed the force tolerance %g "
+		                  "(worst %.3g)", badpoints, allpoints, o.fl.min.ftol, worst);
 	cli_finish();
 }
