@@ -670,6 +670,7 @@ typedef struct {
 	int ntok;
 	char *rest;        /* the text of a history line */
 	char *srest;       /* the text of a state line after its name */
+	int cut;           /* the input ended in the middle of a line */
 } reader;
 
 /* Next line that is neither blank nor a comment, split into up to 8
@@ -683,6 +684,13 @@ static int next_line(reader *rd)
 			return ferror(rd->f) ? -1 : 0;
 		(*rd->line)++;
 		char *s = rd->buf;
+		/* writers end every line: a last line without its newline is
+		 * a stream cut off (a killed writer), whatever it holds; only
+		 * a bare "end" is taken as it is */
+		if (s[n - 1] != '\n' && strcmp(s, "end") != 0 && strcmp(s, "end\r") != 0) {
+			rd->cut = 1;
+			return 0;
+		}
 		while (n > 0 && (s[n - 1] == '\n' || s[n - 1] == '\r'))
 			s[--n] = '\0';
 		if (strlen(s) != (size_t)n) {
@@ -788,6 +796,7 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 	int have_box = 0;
 
 #define EOFERR(what) do { st = n < 0 ? mesh_error_set(err, *rd->line, MESH_EIO, "read error: %s", strerror(errno)) \
+	: rd->cut ? mesh_error_set(err, *rd->line, MESH_EINVAL, "unexpected end of input in the middle of a line (cut off)") \
 	: mesh_error_set(err, *rd->line, MESH_EINVAL, "unexpected end of input: %s", what); goto out; } while (0)
 #define NOMEM() do { st = mesh_error_set(err, *rd->line, MESH_ENOMEM, "out of memory"); goto out; } while (0)
 #define BAD(...) do { st = mesh_error_set(err, L, MESH_EINVAL, __VA_ARGS__); goto out; } while (0)
@@ -983,6 +992,10 @@ int mesh_read(FILE *f, long *line, mesh **out, mesh_error *err)
 	reader rd = { .f = f, .line = line };
 	*out = NULL;
 	int n = next_line(&rd);
+	if (n == 0 && rd.cut) {
+		free(rd.buf);
+		return mesh_error_set(err, *line, MESH_EINVAL, "unexpected end of input in the middle of a line (cut off)");
+	}
 	if (n == 0) {
 		free(rd.buf);
 		return MESH_EOF;

@@ -29,6 +29,7 @@ void cli_init(const char *name, const char *usage, int argc, char *const argv[])
 	/* a reader that goes away must not kill us in the middle of a record:
 	 * the write fails with EPIPE instead, and we say so (cli_write_error) */
 	signal(SIGPIPE, SIG_IGN);
+	cli_catch_signals();
 	/* GSL's default handler aborts; libmesh checks GSL's status codes */
 	gsl_set_error_handler_off();
 }
@@ -278,8 +279,15 @@ void cli_finish_status(int status, const char *fmt, ...)
 	exit(status);
 }
 
+/* The first signal asks for a clean stop; a second one (the user means
+ * it) ends the program at once, as if it were not caught. */
 static void on_signal(int sig)
 {
+	if (cli_stop) {
+		signal(sig, SIG_DFL);
+		raise(sig);
+		return;
+	}
 	cli_stop = sig;
 }
 
