@@ -56,7 +56,7 @@ MAN1 = $(wildcard man/*.1)
 MAN5 = $(wildcard man/*.5)
 MAN7 = $(wildcard man/*.7)
 
-.PHONY: all check bench demo deps install uninstall clean samples figures
+.PHONY: all check bench demo deps install uninstall clean samples figures fuzz fuzz-build
 
 all: $(LIB) $(PROGS)
 
@@ -98,7 +98,7 @@ bench: all
 	  [ -x "$$b" ] || continue; \
 	  echo "== $$b"; PATH="$(CURDIR)/bin:$$PATH" "$$b" || exit 1; done
 
-DEBS = libgsl-dev libnlopt-dev libcgal-dev g++ make
+DEBS = libgsl-dev libnlopt-dev libcgal-dev g++ make perl clang libclang-rt-14-dev
 FIGDEBS = gnuplot-nox
 deps:
 	@./.ci/deps $(DEBS)
@@ -129,5 +129,42 @@ uninstall:
 	  $(MAN5:man/%=$(DESTDIR)$(PREFIX)/share/man/man5/%) \
 	  $(MAN7:man/%=$(DESTDIR)$(PREFIX)/share/man/man7/%)
 
+# make fuzz: every fuzz/*.c is a libFuzzer harness (clang, ASan + UBSan,
+# the library instrumented for coverage, in build-fuzz/), run FUZZ_S
+# seconds from its seed corpus fuzz/corpus/NAME; any finding fails it
+# (fuzz/run says where the input is).  Needs clang and libclang-rt-14-dev.
+FUZZ_S ?= 60
+FUZZ_CC ?= clang
+FUZZ_CXX ?= clang++
+FUZZ_FLAGS = -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+FUZZ_SRC = $(sort $(wildcard fuzz/*.c))
+FUZZ_BIN = $(FUZZ_SRC:fuzz/%.c=build-fuzz/%)
+FUZZ_LIB = build-fuzz/libmesh.a
+FUZZ_LIB_OBJ = $(LIB_C:%.c=build-fuzz/%.o) $(LIB_CC:%.cc=build-fuzz/%.o)
+FUZZDEBS = clang libclang-rt-14-dev
+
+build-fuzz/libmesh/%.o: libmesh/%.c $(LIB_H)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -Ilibmesh $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c -o $@ $<
+
+build-fuzz/libmesh/%.o: libmesh/%.cc $(LIB_H)
+	@mkdir -p $(@D)
+	$(FUZZ_CXX) -std=c++17 $(WARN) -Ilibmesh $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c -o $@ $<
+
+$(FUZZ_LIB): $(FUZZ_LIB_OBJ)
+	rm -f $@
+	ar rcs $@ $(FUZZ_LIB_OBJ)
+
+build-fuzz/%: fuzz/%.c $(FUZZ_LIB) $(LIB_H) tools/cli.c tools/cli.h $(PROGS_SRC)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -Ilibmesh -Itools \
+	  -DTIS_VERSION='"$(VERSION)"' $(FUZZ_FLAGS) -fsanitize=fuzzer -c -o $@.o $<
+	$(FUZZ_CXX) $(FUZZ_FLAGS) -fsanitize=fuzzer -o $@ $@.o $(FUZZ_LIB) $(LIBS)
+
+fuzz-build: $(FUZZ_BIN)
+
+fuzz: fuzz-build
+	./fuzz/run $(FUZZ_S) $(FUZZ_BIN)
+
 clean:
-	rm -rf libmesh/*.o tools/*.o $(LIB) bin tests/*.test build-san demo-out
+	rm -rf libmesh/*.o tools/*.o $(LIB) bin tests/*.test build-san build-fuzz demo-out

@@ -205,6 +205,17 @@ static double num(const char *s, const char *col, long line)
 	return v;
 }
 
+/* A vertex id column: a whole number in [0, 2e9] (found by fuzzing: a
+ * huge one made the conversion to long undefined). */
+static long vertex_id(const char *s, const char *col, long line)
+{
+	double v = num(s, col, line);
+	if (v < 0 || v != floor(v) || v > 2e9)
+		cli_die(EXIT_INPUT, "%s:%ld: column %s: not a vertex id: '%s'", input_name, line,
+		        col, s);
+	return (long)v;
+}
+
 int main(int argc, char **argv)
 {
 	cli_init("tis-fit", usage, argc, argv);
@@ -271,8 +282,8 @@ int main(int argc, char **argv)
 		if (jd < 0 || jd != floor(jd) || jd > 2e9)
 			cli_die(EXIT_INPUT, "%s:%ld: column j: not a junction index: '%s'",
 			        input_name, line, fld[col[C_J]]);
-		long a = col[C_A] >= 0 ? (long)num(fld[col[C_A]], "a", line) : -1;
-		long b = col[C_B] >= 0 ? (long)num(fld[col[C_B]], "b", line) : -1;
+		long a = col[C_A] >= 0 ? vertex_id(fld[col[C_A]], "a", line) : -1;
+		long b = col[C_B] >= 0 ? vertex_id(fld[col[C_B]], "b", line) : -1;
 		const char *dir = fld[col[C_DIR]];
 		int isrest = strcmp(dir, "rest") == 0, isout = strcmp(dir, "out") == 0;
 		int isback = strcmp(dir, "back") == 0;
