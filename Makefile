@@ -98,7 +98,7 @@ bench: all
 	  [ -x "$$b" ] || continue; \
 	  echo "== $$b"; PATH="$(CURDIR)/bin:$$PATH" "$$b" || exit 1; done
 
-DEBS = libgsl-dev libnlopt-dev libcgal-dev g++ make perl clang libclang-rt-14-dev
+DEBS = libgsl-dev libnlopt-dev libcgal-dev g++ make
 FIGDEBS = gnuplot-nox
 deps:
 	@./.ci/deps $(DEBS)
@@ -161,7 +161,9 @@ build-fuzz/%: fuzz/%.c $(FUZZ_LIB) $(LIB_H) tools/cli.c tools/cli.h $(PROGS_SRC)
 	  -DTIS_VERSION='"$(VERSION)"' $(FUZZ_FLAGS) -fsanitize=fuzzer -c -o $@.o $<
 	$(FUZZ_CXX) $(FUZZ_FLAGS) -fsanitize=fuzzer -o $@ $@.o $(FUZZ_LIB) $(LIBS)
 
-fuzz-build: $(FUZZ_BIN)
+fuzz-build:
+	@./.ci/deps --quiet $(FUZZDEBS)
+	@$(MAKE) --no-print-directory $(FUZZ_BIN)
 
 fuzz: fuzz-build
 	./fuzz/run $(FUZZ_S) $(FUZZ_BIN)
