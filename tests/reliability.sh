@@ -142,9 +142,9 @@ for sig in INT TERM; do
 		sh -c "tis-info --check '$T/re.mesh' >/dev/null && grep -q '^history tis-relax.*interrupted by SIG$sig' '$T/re.mesh'"
 	# forcelen inside a pipeline: tis-relax | tis-forcelen --all | tis-fit
 	rm -f "$T/st1"
-	# signalled once tis-fit has read more than one curve (~25 kB)
+	# signalled once tis-forcelen has written one curve (~23 kB)
 	in_group $sig "tis-relax '$S/ordered-11.mesh' 2>/dev/null | { trap : INT TERM; tis-forcelen --all --threads 1 2>'$T/pl.err'; echo \$? >'$T/st1'; } | tis-fit >'$T/pl.fit' 2>/dev/null" -c \
-		'[ $(awk "/^rchar/ { print \$2 }" /proc/$(pgrep -n -g $PG -x tis-fit)/io) -gt 40000 ]'
+		'[ $(awk "/^wchar/ { print \$2 }" /proc/$(pgrep -n -g $PG -x tis-forcelen)/io) -gt 20000 ]'
 
 	ok "pipeline tis-relax | tis-forcelen | tis-fit SIG$sig: forcelen and fit exit 3" \
 		sh -c "[ \"\$(cat '$T/st1')\" = 3 ] && [ \"\$(cat '$T/st')\" = 3 ]"
