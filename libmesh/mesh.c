@@ -954,6 +954,15 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 	if (strcmp(rd->tok[0], "end") != 0 || rd->ntok != 1)
 		BAD("expected 'end', got '%.40s'", rd->tok[0]);
 
+	/* The geometry is checked on the coordinates a writer will put out
+	 * (wrapped into the box; unchanged when they are in it), so that what
+	 * is accepted is also accepted again once written (fuzz/mesh.c found
+	 * a vertex at x = 1e17 whose unwrapped junctions passed and whose
+	 * wrapped ones did not). */
+	for (int v = 0; v < m->nv; v++) {
+		m->r[2 * v] = wrap1(m->r[2 * v], m->lx) + 0.0;
+		m->r[2 * v + 1] = wrap1(m->r[2 * v + 1], m->ly) + 0.0;
+	}
 	st = mesh_build(m, cline, err);
 	if (st != MESH_OK)
 		goto out;
