@@ -510,6 +510,18 @@ int mesh_state_set(mesh *m, const char *name, const char *text)
 	return MESH_OK;
 }
 
+void mesh_state_unset(mesh *m, const char *name)
+{
+	int k = 0;
+	for (int i = 0; i < m->nstate; i++) {
+		if (strcmp(m->state[i].name, name) == 0)
+			free(m->state[i].text);
+		else
+			m->state[k++] = m->state[i];
+	}
+	m->nstate = k;
+}
+
 void mesh_state_clear(mesh *m)
 {
 	for (int i = 0; i < m->nstate; i++)
@@ -900,6 +912,7 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 			BAD("cell %d has %d sides but there are only %d vertices", k, ns, m->nv);
 		if (rd->ntok != ns + 1)
 			BAD("cell %d: %d sides but %d vertex ids", k, ns, rd->ntok - 1);
+
 		if (nk > MESH_MAX_COUNT - ns)
 			BAD("too many cell corners");
 		if (!grow((void **)&m->cv, &cvcap, (size_t)nk + ns, sizeof *m->cv) ||

@@ -252,11 +252,32 @@ static int run_to(struct run *u, double t_end)
 	return u->why[0] == '\0';
 }
 
+/* The options a continued run must share with the first, as text. */
+static void protocol(const struct opts *o, char *buf, size_t n)
+{
+	int len = snprintf(buf, n, "stages");
+	for (int i = 0; i < o->nstage; i++)
+		len += snprintf(buf + len, n - len, " %.17g:%.17g", o->sig[i], o->dur[i]);
+	snprintf(buf + len, n - len, " relax %.17g tau %.17g seed %lu dt %.17g dr %.17g ou_dt %.17g "
+	         "settle %.17g t1 %.17g t1_new %.17g", o->relax, o->tau, o->seed, o->d.dt_max,
+	         o->d.dr_max, o->d.ou_dt, o->d.settle, o->d.t1_length, o->d.t1_new);
+}
+
 int main(int argc, char **argv)
 {
 	cli_init("tis-anneal", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 	mesh *m = cli_read_one(o.input);
+	/* a mesh left by a stopped run continues it (dynamics.h, "Resume") */
+	char proto[2048];
+	protocol(&o, proto, sizeof proto);
+	const char *was = mesh_state_get(m, "anneal_run");
+	if (was && strcmp(was, proto) != 0)
+		cli_die(EXIT_INPUT, "the mesh holds the state of a stopped tis-anneal run with other "
+		        "options (%s): give the same options to continue it", was);
+	mesh_error rerr;
+	if (was && dyn_state_restore_mesh(m, &rerr) != MESH_OK)
+		cli_die(EXIT_INPUT, "%s: %s", cli_input_name(o.input), rerr.msg);
 	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
 	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
 		cli_die(EXIT_INPUT, "out of memory");
@@ -278,13 +299,25 @@ int main(int argc, char **argv)
 	mesh_error err;
 	if (dyn_alloc(m, &p, &o.d, o.seed, &u.d, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
+	if (was && dyn_state_load(u.d, &err) != MESH_OK)
+		cli_die(EXIT_INPUT, "%s: %s", cli_input_name(o.input), err.msg);
+	/* used up: frames and the final mesh carry only a new one */
+	dyn_state_clear(m);
+	mesh_state_unset(m, "anneal_run");
+	dyn_counts c0;
+	dyn_counts_get(u.d, &c0);
 	cli_catch_signals();
-	if (u.log) {
+	/* frames and log rows at the first step at or after each multiple of
+	 * their interval; a continued run goes on with the next one */
+	if (u.log)
 		log_row(&u);
+	do
 		u.next_log = ++u.klog * o.log_every;
-	}
+	while (u.next_log <= c0.t);
 	if (o.every > 0)
-		u.next_frame = ++u.kframe * o.every;
+		do
+			u.next_frame = ++u.kframe * o.every;
+		while (u.next_frame <= c0.t);
 
 	u.nstage = o.nstage + (o.relax > 0);
 	double tcum = 0;
@@ -337,9 +370,14 @@ int main(int argc, char **argv)
 		len += snprintf(note + len, sizeof note - len, "; %ld sigma=0 stages finished by "
 				"Newton minimization at fixed topology once max force and tension <= %g "
 				"(settle), covering %.10g time units", c.nsettle, o.d.settle, c.t_settled);
+	if (was)
+		len += snprintf(note + len, sizeof note - len, "; continued from t %.10g", c0.t);
 	if (!done)
 		snprintf(note + len, sizeof note - len, "; %s", u.why);
 	cli_history_note(m, "%s", note);
+	/* a stopped run leaves what continuing it needs; a finished one none */
+	if (!done && (dyn_state_save(u.d) != MESH_OK || mesh_state_set(m, "anneal_run", proto) != MESH_OK))
+		cli_die(EXIT_INPUT, "out of memory");
 
 	if (u.log) {
 		if (!done) {
