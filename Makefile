@@ -35,6 +35,11 @@ ALL_CXXFLAGS += $(SANFLAGS)
 LDFLAGS += $(SANFLAGS)
 export ASAN_OPTIONS = detect_leaks=1:abort_on_error=0
 export UBSAN_OPTIONS = print_stacktrace=1:halt_on_error=1
+else ifeq ($(CHECK),1)
+# CHECK=1: the whole tissue is validated after every T1 (invariants.h),
+# into build-check/
+O = build-check/
+ALL_CFLAGS += -DTIS_CHECK_INVARIANTS
 else
 O =
 endif
@@ -169,4 +174,4 @@ fuzz: fuzz-build
 	./fuzz/run $(FUZZ_S) $(FUZZ_BIN)
 
 clean:
-	rm -rf libmesh/*.o tools/*.o $(LIB) bin tests/*.test build-san build-fuzz demo-out
+	rm -rf libmesh/*.o tools/*.o $(LIB) bin tests/*.test build-san build-check build-fuzz demo-out

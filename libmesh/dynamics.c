@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "invariants.h"
 #include "minimize.h"
 #include "noise.h"
 #include "topology.h"
@@ -281,6 +282,12 @@ static int do_t1s(dyn *d, mesh_error *err)
 			continue;
 		}
 		d->c.nt1++;
+#ifdef TIS_CHECK_INVARIANTS
+		if ((st = mesh_invariants(m, &e2)) != MESH_OK)
+			return mesh_error_set(err, 0, MESH_EDOM, "invariant broken after T1 %ld (junction "
+			                      "%d-%d) at step %ld, t = %.10g: %s", d->c.nt1, m->jv[2 * best],
+			                      m->jv[2 * best + 1], d->c.nstep, d->c.t, e2.msg);
+#endif
 		/* a and b moved (further than disp allows for): the junctions at
 		 * them are candidates now, with no shrink history; no other
 		 * junction changed */
