@@ -372,6 +372,8 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 	}
 	st = MESH_OK;
 out:
+	if (st == MESH_ENOMEM)
+		mesh_error_set(err, 0, st, "out of memory");
 	if (st != MESH_OK)
 		free_derived(m);
 	free(outoff);

@@ -177,6 +177,14 @@ void check_input(double lx, double ly, int n, const double *xy, mesh_error *err)
 	for (int i = 0; i < 2 * n; i++)
 		if (!std::isfinite(xy[i]))
 			FAIL(err, MESH_EINVAL, "seed %d has a non-finite coordinate", i / 2);
+	/* Fewer than about one seed across the box's short side: cells span
+	 * it and border their own images, so there is no tissue, and the
+	 * copies a margin of a few spacings needs grow as spacing/side (found
+	 * by fuzz/seeds: 3 seeds in a 0.01 x 62 box took seconds). */
+	double h = std::sqrt(lx * ly / n), side = std::min(lx, ly);
+	if (side < 0.5 * h)
+		FAIL(err, MESH_EINVAL, "too few seeds for a periodic triangulation of this box (the "
+		     "seed spacing %.3g is more than twice the short side %.3g)", h, side);
 }
 
 void place_seeds(Tessellation &t, const double *xy, mesh_error *err)

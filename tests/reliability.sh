@@ -5,7 +5,7 @@
 # and early ends".
 . "$(dirname "$0")/lib.sh"
 
-plan 63
+plan 65
 
 S=$(dirname "$0")/../samples
 # one line on stderr (a usage error: message, usage, hint) and the status
@@ -167,5 +167,18 @@ sed "s/^box.*/&\nparam ka 1e12/" "$T/a.mesh" >"$T/k.mesh"
 tis-relax "$T/k.mesh" >"$T/out" 2>"$T/err"; st=$?
 ok "ka 1e12 (the top of its range): tis-relax prints no inf/nan with exit 0" \
 	sh -c "! { [ $st -eq 0 ] && grep -qiw 'inf\|nan' '$T/err' '$T/out'; }"
+
+# ---- hostile sizes: refused before allocating when memory is short
+# (ulimit -v; the sanitizers reserve terabytes of address space, so not
+# under SAN=1)
+if [ -n "${ASAN_OPTIONS:-}" ]; then
+	pass "# skip hostile sizes under the sanitizers"
+	pass "# skip"
+else
+	fails_with 1 "tis-hex 10000 1000 with 1 GB of address space: refused, one line" \
+		sh -c 'ulimit -v 1000000; exec tis-hex 10000 1000'
+	fails_with 1 "tis-voronoi 10000000 with 1 GB: refused, one line" \
+		sh -c 'ulimit -v 1000000; exec tis-voronoi 10000000'
+fi
 
 done_testing

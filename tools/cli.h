@@ -55,6 +55,12 @@ int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m);
 /* Read exactly one mesh; exit 1 if there is none, or if anything but the
  * end of the input follows it (a second mesh, garbage). */
 mesh *cli_read_one(const char *path);
+/* Hostile sizes: a job that would need mem bytes of memory (an estimate
+ * the caller measured, bench/RESULTS.md) and write out bytes is refused
+ * (exit 1, one line) if mem is more than the system has available now,
+ * and announced on stderr (what it will cost) if either is above 1 GB.
+ * what names the job ("tis-hex 10000 1000: 1e7 cells"). */
+void cli_size_check(const char *what, double mem, double out);
 /* Whether m, written and read back, passes the reader's checks: MESH_OK,
  * or the reader's error. */
 int cli_mesh_check(const mesh *m, mesh_error *err);

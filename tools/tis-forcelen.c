@@ -286,6 +286,8 @@ static void flush_curves(struct job *jb)
 		int k = jb->out++;
 		if (complete(jb, k))
 			write_curve(jb, k);
+		free(jb->res[k]);
+		jb->res[k] = NULL;
 	}
 	if (jb->tty) {
 		time_t now = time(NULL);
@@ -308,8 +310,10 @@ static void *worker(void *arg)
 		pthread_mutex_unlock(&jb->lock);
 		if (w == NULL || k >= jb->count || cli_stop)
 			break;
-		int st = fl_sweep(jb->m, jb->p, jb->sel[k], jb->fl, w, jb->res[k],
-		                  &jb->nres[k], &cli_stop);
+		jb->res[k] = malloc(((size_t)fl_npoints(jb->m, jb->sel[k], jb->fl) + 1) *
+		                    sizeof **jb->res);
+		int st = jb->res[k] ? fl_sweep(jb->m, jb->p, jb->sel[k], jb->fl, w, jb->res[k],
+		                               &jb->nres[k], &cli_stop) : MESH_ENOMEM;
 		pthread_mutex_lock(&jb->lock);
 		jb->status[k] = st;
 		if (st == MESH_OK || st == MESH_ENOCONV)
@@ -406,12 +410,10 @@ int main(int argc, char **argv)
 		jb.status = calloc((size_t)count + 1, sizeof *jb.status);
 		if (!jb.res || !jb.nres || !jb.status)
 			cli_die(EXIT_INPUT, "out of memory");
-		for (int k = 0; k < count; k++) {
-			jb.res[k] = malloc(((size_t)fl_npoints(m, sel[k], &o.fl) + 1) * sizeof **jb.res);
-			if (jb.res[k] == NULL)
-				cli_die(EXIT_INPUT, "out of memory");
+		/* a curve's points are allocated when it is swept and freed once
+		 * written: memory for a few curves, not for all of them */
+		for (int k = 0; k < count; k++)
 			jb.status[k] = -1;  /* not done */
-		}
 		pthread_mutex_init(&jb.lock, NULL);
 		int nt = o.threads < count ? o.threads : count;
 		pthread_t tid[64];

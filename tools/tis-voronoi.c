@@ -99,6 +99,13 @@ int main(int argc, char **argv)
 	mesh_error err;
 	double *xy;
 	int n;
+	if (!o.points) {
+		/* measured on 1e5 seeds (bench/RESULTS.md, hostile sizes): 740
+		 * bytes of memory and 116 bytes of output per seed */
+		char what[64];
+		snprintf(what, sizeof what, "%ld seeds", o.n);
+		cli_size_check(what, 800.0 * o.n, 120.0 * o.n);
+	}
 	if (o.points) {
 		FILE *f = cli_open(o.points);
 		int st = voronoi_seeds_read(f, &xy, &n, &err);
