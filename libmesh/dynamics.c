@@ -55,6 +55,8 @@ struct dyn {
 	 * (fsettle_next >= 0: use it at the next run that takes a step) */
 	double fsettle, fsettle_next;
 	dyn_counts c;
+	dyn_t1_hook t1_hook;
+	void *t1_data;
 };
 
 
@@ -166,21 +168,38 @@ void dyn_counts_get(const dyn *d, dyn_counts *c)
 	*c = d->c;
 }
 
+void dyn_set_time(dyn *d, double t)
+{
+	d->c.t = t;
+}
+
+void dyn_set_t1_hook(dyn *d, dyn_t1_hook hook, void *data)
+{
+	d->t1_hook = hook;
+	d->t1_data = data;
+}
+
+int dyn_rng_get(const dyn *d, char *buf, size_t n)
+{
+	if (d->noise == NULL) {
+		if (n < 1)
+			return MESH_EDOM;
+		buf[0] = '\0';
+		return MESH_OK;
+	}
+	return ou_state_get(d->noise, buf, n);
+}
+
+int dyn_rng_set(dyn *d, const char *text)
+{
+	if (d->noise == NULL && (d->noise = ou_alloc(d->seed)) == NULL)
+		return MESH_ENOMEM;
+	return ou_state_set(d->noise, text);
+}
+
 double dyn_energy(dyn *d)
 {
 	return mesh_energy(d->m, d->m->r, &d->p, NULL, d->ws);
-}
-
-/* Junction vectors and lengths at the mesh's coordinates; the smallest
- * length. */
-static double lengths(dyn *d)
-{
-	mesh_junction_vectors(d->m, d->m->r, d->jd);
-	double lmin = INFINITY;
-	for (int j = 0; j < d->m->nj; j++)
-		if (d->jd[3 * j + 2] < lmin)
-			lmin = d->jd[3 * j + 2];
-	return lmin;
 }
 
 /* Squared length of junction j: the one expression every T1 test uses,
@@ -272,6 +291,7 @@ static int do_t1s(dyn *d, mesh_error *err)
 			return MESH_OK;
 		mesh_error e2;
 		int touched[5];
+		int lose[2] = { m->jc[2 * best], m->jc[2 * best + 1] };
 		int st = mesh_t1_touch(m, best, d->o.t1_new, touched, &e2);
 		if (st == MESH_ENOMEM)
 			return mesh_error_set(err, 0, st, "out of memory");
@@ -288,6 +308,8 @@ static int do_t1s(dyn *d, mesh_error *err)
 			                      "%d-%d) at step %ld, t = %.10g: %s", d->c.nt1, m->jv[2 * best],
 			                      m->jv[2 * best + 1], d->c.nstep, d->c.t, e2.msg);
 #endif
+		if (d->t1_hook)
+			d->t1_hook(d->t1_data, d, best, lose, m->jc + 2 * best, sqrt(lbest));
 		/* a and b moved (further than disp allows for): the junctions at
 		 * them are candidates now, with no shrink history; no other
 		 * junction changed */
@@ -422,7 +444,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	if (o.sigma > 0 && d->noise == NULL && (d->noise = ou_alloc(d->seed)) == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	double *restrict f = d->f, *restrict jd = d->jd, *restrict r = m->r;
+	double *restrict f = d->f, *restrict r = m->r;
 	const double thr2 = o.t1_length * o.t1_length;
 	d->have_dprev = 0;
 	/* the options may have changed since the last run */
@@ -517,17 +539,20 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		}
 		if (feedback) {
 			/* dl/dt = e.(F_b - F_a) with F = -f; the increment is applied
-			 * after the exact OU step */
-			lengths(d);
+			 * after the exact OU step.  The junction vectors are the
+			 * energy's, at these coordinates. */
+			const double *wj = energy_ws_vectors(d->ws);
 			const unsigned char *act = d->active;
 			for (int j = 0; j < nj; j++) {
 				if (act && !act[j])
 					continue;
 				int a = m->jv[2 * j], b = m->jv[2 * j + 1];
-				double l = jd[3 * j + 2];
-				double ldot = -(jd[3 * j] * (f[2 * b] - f[2 * a]) +
-						jd[3 * j + 1] * (f[2 * b + 1] - f[2 * a + 1])) / l;
-				d->ldot[j] = -dt * (o.gamma0 + dg[j]) * ldot / l;
+				/* -dt (gamma0 + dg) (dl/dt)/l with dl/dt = -d.(f_b - f_a)/l:
+				 * one division */
+				double l = wj[3 * j + 2];
+				double dot = wj[3 * j] * (f[2 * b] - f[2 * a]) +
+					     wj[3 * j + 1] * (f[2 * b + 1] - f[2 * a + 1]);
+				d->ldot[j] = dt * (o.gamma0 + dg[j]) * dot / (l * l);
 				if (!isfinite(d->ldot[j]))
 					return mesh_error_set(err, 0, MESH_EDOM, "the tension of junction "
 					                      "%d-%d became non-finite at step %ld, t = %.10g",
@@ -667,7 +692,7 @@ void dyn_state_clear(mesh *m)
 	static const char *const names[] = { "dyn_run", "dyn_rng", "dyn_junctions", "dyn_t1",
 	                                     "dyn_r" };
 	for (size_t n = 0; n < sizeof names / sizeof names[0]; n++)
-		mesh_state_unset(m, names[n]);
+		mesh_state_del(m, names[n]);
 }
 
 static int bad(mesh_error *err, const char *what)

@@ -7,7 +7,7 @@
  *
  *   f(l) = (grad_a W - grad_b W) . e = -2 dW/dl,   e = (cos t, sin t)
  *
- * (paper footnote; DESIGN.md, "The measurements"), so f(l0) = 0 at the rest
+ * (paper footnote; doc/DESIGN.md, "The measurements"), so f(l0) = 0 at the rest
  * length and a1 = f'(l0) < 0 for a stable junction.
  *
  * A sweep starts at the rest state (the mesh's own coordinates, which should
@@ -97,7 +97,7 @@ int fl_sweep(const mesh *m, const model *p, int j, const fl_opts *o,
 double fl_force(const mesh *m, const double *r, const model *p, int j,
                 double *grad, energy_ws *ws);
 
-/* Exact linear response at the rest state (DESIGN.md):
+/* Exact linear response at the rest state (doc/DESIGN.md):
  *
  *   a1 = f'(l0) = -2 / (g^T H^+ g),   g = grad l (4 nonzero entries),
  *

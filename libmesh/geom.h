@@ -50,11 +50,16 @@ double mesh_energy(const mesh *m, const double *r, const model *p,
 
 /* The same, with junction tensions: grad is the gradient of
  * W + sum_j dg[j] l_j, so -grad is the passive plus active force of
- * DESIGN.md (the active force of junction j on vertex i is -dg_j grad_i l_j)
+ * doc/DESIGN.md (the active force of junction j on vertex i is -dg_j grad_i l_j)
  * at no extra cost.  dg may be NULL.  Returns W alone, without the tension
  * term. */
 double mesh_energy_tension(const mesh *m, const double *r, const model *p,
                            const double *dg, double *grad, energy_ws *w);
+
+/* The junction vectors and lengths (jd as mesh_junction_vectors gives
+ * them, 3 per junction) of w's last energy evaluation: code that needs
+ * them at the same coordinates does not compute them again. */
+const double *energy_ws_vectors(const energy_ws *w);
 
 /* Largest |grad_i| over vertices of a gradient vector. */
 double grad_max_norm(int nv, const double *grad);

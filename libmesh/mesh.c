@@ -512,16 +512,15 @@ int mesh_state_set(mesh *m, const char *name, const char *text)
 	return MESH_OK;
 }
 
-void mesh_state_unset(mesh *m, const char *name)
+void mesh_state_del(mesh *m, const char *name)
 {
-	int k = 0;
-	for (int i = 0; i < m->nstate; i++) {
-		if (strcmp(m->state[i].name, name) == 0)
+	for (int i = 0; i < m->nstate; i++)
+		if (strcmp(m->state[i].name, name) == 0) {
 			free(m->state[i].text);
-		else
-			m->state[k++] = m->state[i];
-	}
-	m->nstate = k;
+			memmove(&m->state[i], &m->state[i + 1], (size_t)(m->nstate - i - 1) * sizeof *m->state);
+			m->nstate--;
+			return;
+		}
 }
 
 void mesh_state_clear(mesh *m)

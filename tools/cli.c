@@ -258,23 +258,21 @@ void cli_write_mesh(const mesh *m)
 		cli_write_error("stdout");
 }
 
-void cli_history_note(mesh *m, const char *fmt, ...)
+void cli_write_frame(mesh *m, double t)
 {
-	char note[1024];
-	va_list ap;
-	va_start(ap, fmt);
-	vsnprintf(note, sizeof note, fmt, ap);
-	va_end(ap);
-	if (m->nhist == 0 && mesh_history_add(m, "") != MESH_OK)
+	const char *had = mesh_state_get(m, "t");
+	char ts[32], old[64] = "";
+	if (had)
+		snprintf(old, sizeof old, "%s", had);
+	snprintf(ts, sizeof ts, "%.17g", t);
+	if (mesh_state_set(m, "t", ts) != MESH_OK)
 		cli_die(EXIT_INPUT, "out of memory");
-	char *h = m->hist[m->nhist - 1];
-	size_t n = strlen(h) + strlen(note) + 4;
-	char *s = realloc(h, n);
-	if (s == NULL)
+	printf("# %s frame t %.10g\n", cli_name, t);
+	cli_write_mesh(m);
+	if (!had)
+		mesh_state_del(m, "t");
+	else if (mesh_state_set(m, "t", old) != MESH_OK)
 		cli_die(EXIT_INPUT, "out of memory");
-	strcat(s, " # ");
-	strcat(s, note);
-	m->hist[m->nhist - 1] = s;
 }
 
 void cli_table_header(FILE *f, const mesh *m, const char *cols)
@@ -295,6 +293,23 @@ void cli_history(mesh *m)
 {
 	if (mesh_history_argv(m, cli_argc, cli_argv) != MESH_OK)
 		cli_die(EXIT_INPUT, "out of memory");
+}
+
+void cli_history_note(mesh *m, const char *note)
+{
+	if (m->nhist == 0) {
+		if (mesh_history_add(m, note) != MESH_OK)
+			cli_die(EXIT_INPUT, "out of memory");
+		return;
+	}
+	char *h = m->hist[m->nhist - 1];
+	size_t n = strlen(h) + strlen(note) + 4;
+	char *s = realloc(h, n);
+	if (s == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	strcat(s, " # ");
+	strcat(s, note);
+	m->hist[m->nhist - 1] = s;
 }
 
 static void close_stdout(void)

@@ -71,12 +71,17 @@ void cli_write_mesh(const mesh *m);
 /* A failed write of what ("stdout", a file name), errno set: exit 3 for a
  * reader that went away (EPIPE), else 1. */
 _Noreturn void cli_write_error(const char *what);
-/* Append " # note" to the last history line (this program's command
- * line): how a run ended, "interrupted ..." when it was stopped. */
-void cli_history_note(mesh *m, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* Write a frame of a run to stdout: a "# NAME frame t T" comment, then m
+ * with a "state t T" line (the frame's time, which tis-info and tis-vtk
+ * read); m keeps the state lines it had.  Exit 1 on a write error or out
+ * of memory. */
+void cli_write_frame(mesh *m, double t);
 /* Add the command line given to cli_init as a history line; exit 1 if out
  * of memory. */
 void cli_history(mesh *m);
+/* Append " # note" to the last history line (what the run did not finish,
+ * how it ended); exit 1 if out of memory. */
+void cli_history_note(mesh *m, const char *note);
 
 /* Begin a TSV table on f: "# " lines of provenance (the history of m, if
  * m is not NULL, then this program's command line), then the plain column

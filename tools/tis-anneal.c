@@ -215,8 +215,11 @@ static int observe(dyn *d, void *data)
 	dyn_counts c;
 	dyn_counts_get(d, &c);
 	if (u->o->every > 0 && c.t >= u->next_frame) {
-		printf("# %s frame t %.10g\n", cli_name, c.t);
-		cli_write_mesh(u->m);
+		/* the final mesh is the frame at the end: not twice */
+		if (c.t < u->total * (1 - 1e-12)) {
+			/* a frame carries its time (tis-info, tis-vtk read it) */
+			cli_write_frame(u->m, c.t);
+		}
 		while (u->next_frame <= c.t)
 			u->next_frame = ++u->kframe * u->o->every;
 	}
@@ -292,7 +295,11 @@ int main(int argc, char **argv)
 		u.log = fopen(o.log, "w");
 		if (u.log == NULL)
 			cli_die(EXIT_INPUT, "%s: cannot open for writing", o.log);
-		fprintf(u.log, "# t\tf6\tenergy\tt1\n");
+		/* the mesh's history without this command line, which
+		 * cli_table_header adds */
+		mesh h = *m;
+		h.nhist--;
+		cli_table_header(u.log, &h, "t\tf6\tenergy\tt1");
 		if (fflush(u.log) != 0)
 			u.log_errno = errno ? errno : EIO;
 	}
@@ -303,7 +310,7 @@ int main(int argc, char **argv)
 		cli_die(EXIT_INPUT, "%s: %s", cli_input_name(o.input), err.msg);
 	/* used up: frames and the final mesh carry only a new one */
 	dyn_state_clear(m);
-	mesh_state_unset(m, "anneal_run");
+	mesh_state_del(m, "anneal_run");
 	dyn_counts c0;
 	dyn_counts_get(u.d, &c0);
 	cli_catch_signals();
@@ -374,7 +381,7 @@ int main(int argc, char **argv)
 		len += snprintf(note + len, sizeof note - len, "; continued from t %.10g", c0.t);
 	if (!done)
 		snprintf(note + len, sizeof note - len, "; %s", u.why);
-	cli_history_note(m, "%s", note);
+	cli_history_note(m, note);
 	/* a stopped run leaves what continuing it needs; a finished one none */
 	if (!done && (dyn_state_save(u.d) != MESH_OK || mesh_state_set(m, "anneal_run", proto) != MESH_OK))
 		cli_die(EXIT_INPUT, "out of memory");

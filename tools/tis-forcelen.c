@@ -8,10 +8,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <gsl/gsl_randist.h>
-#include <gsl/gsl_rng.h>
 
 #include "cli.h"
+#include "select.h"
 #include "forcelen.h"
 #include "geom.h"
 
@@ -110,8 +109,13 @@ static struct opts parse(int argc, char **argv)
 	};
 	struct opts o = { .sel = SEL_NONE, .seed = 1, .relax = 1, .threads = 2 };
 	fl_opts_init(&o.fl);
+	const char *sweep_opt = NULL;   /* the first option only a sweep uses */
 	int c;
-	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+	int li;
+	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
+		if (sweep_opt == NULL && (c == O_STEP || c == O_RANGE || c == O_LMIN || c == O_NOBACK ||
+		                          c == O_PRED || c == O_ALGO || c == O_MAXEVAL || c == O_NOPC))
+			sweep_opt = lo[li].name;
 		switch (c) {
 		case O_JUNCTION:
 			set_sel(&o, SEL_PAIR);
@@ -154,6 +158,8 @@ static struct opts parse(int argc, char **argv)
 	}
 	if (o.sel == SEL_NONE)
 		cli_usage_error("choose junctions with --junction, --index, --random or --all");
+	if (o.linear && sweep_opt)
+		cli_usage_error("--linear sweeps nothing: --%s does nothing with it", sweep_opt);
 	if (o.fl.range / o.fl.step > 1e6)
 		cli_usage_error("--range/--step: more than 1e6 points per leg");
 	if (argc - optind > 1)
@@ -165,57 +171,29 @@ static struct opts parse(int argc, char **argv)
 /* The junctions to measure, in output order. */
 static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 {
-	int n = 0;
-	int *sel = NULL;
+	int *sel = NULL, n = 0, st = MESH_OK;
+	mesh_error err;
 	switch (o->sel) {
-	case SEL_PAIR: {
-		if (o->va >= m->nv || o->vb >= m->nv)
-			cli_die(EXIT_INPUT, "--junction %ld %ld: the mesh has %d vertices",
-			        o->va, o->vb, m->nv);
-		int j = mesh_junction_find(m, (int)o->va, (int)o->vb);
-		if (j < 0)
-			cli_die(EXIT_INPUT, "--junction %ld %ld: no junction joins these vertices",
-			        o->va, o->vb);
-		sel = malloc(sizeof *sel);
-		if (sel)
-			sel[n++] = j;
-		break;
-	}
-	case SEL_INDEX:
-		if (o->index >= m->nj)
-			cli_die(EXIT_INPUT, "--index %ld: the mesh has %d junctions", o->index, m->nj);
-		sel = malloc(sizeof *sel);
-		if (sel)
-			sel[n++] = (int)o->index;
-		break;
-	case SEL_RANDOM: {
-		if (o->nrandom > m->nj)
-			cli_die(EXIT_INPUT, "--random %ld: the mesh has %d junctions", o->nrandom, m->nj);
-		int *all = malloc((size_t)m->nj * sizeof *all);
-		sel = malloc((size_t)o->nrandom * sizeof *sel);
-		gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-		if (all && sel && r) {
-			for (int j = 0; j < m->nj; j++)
-				all[j] = j;
-			gsl_rng_set(r, o->seed);
-			/* gsl_ran_choose keeps the input order: ascending indices */
-			gsl_ran_choose(r, sel, (size_t)o->nrandom, all, (size_t)m->nj, sizeof *all);
-			n = (int)o->nrandom;
-		}
-		if (r)
-			gsl_rng_free(r);
-		free(all);
-		break;
-	}
+	case SEL_PAIR: st = junction_select_pair(m, o->va, o->vb, &sel, &n, &err); break;
+	case SEL_INDEX: st = junction_select_index(m, o->index, &sel, &n, &err); break;
+	case SEL_RANDOM: st = junction_select_random(m, o->nrandom, o->seed, &sel, &n, &err); break;
 	case SEL_ALL:
 		sel = malloc(((size_t)m->nj + 1) * sizeof *sel);
 		if (sel)
 			for (; n < m->nj; n++)
 				sel[n] = n;
+		else
+			st = mesh_error_set(&err, 0, MESH_ENOMEM, "out of memory");
 		break;
 	}
-	if (sel == NULL || (n == 0 && m->nj > 0))
-		cli_die(EXIT_INPUT, "out of memory");
+	if (st != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err.msg);
+	int nshort = 0;
+	for (int k = 0; k < n && !o->linear; k++)
+		nshort += junction_length(m, m->r, sel[k]) <= o->fl.lmin;
+	if (nshort)
+		cli_warn("%d of %d junctions are no longer than --lmin %g: no inward legs for them",
+		         nshort, n, o->fl.lmin);
 	*count = n;
 	return sel;
 }
@@ -324,12 +302,12 @@ static void *worker(void *arg)
 	return NULL;
 }
 
-static void print_header(int linear)
+/* Provenance (the first mesh's history and this command line), then the
+ * column names. */
+static void print_header(const mesh *m, int linear)
 {
-	if (linear)
-		printf("# p0\tj\ta\tb\tl0\ta1\tnzero\tnneg\n");
-	else
-		printf("# p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres\n");
+	cli_table_header(stdout, m, linear ? "p0\tj\ta\tb\tl0\ta1\tnzero\tnneg"
+	                                   : "p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres");
 }
 
 /* Bring the mesh to rest at p if it is not, so that l0 is a rest length. */
@@ -381,7 +359,7 @@ int main(int argc, char **argv)
 		/* the header waits for a valid mesh and junction: bad input
 		 * leaves no output */
 		if (nmesh == 1)
-			print_header(o.linear);
+			print_header(m, o.linear);
 
 		if (o.linear) {
 			fl_linear *lr;
