@@ -771,10 +771,8 @@ static int parse_double(const char *s, double *v)
 
 static int parse_int(const char *s, long lo, long hi, int *v)
 {
-	char *end;
-	errno = 0;
-	long x = strtol(s, &end, 10);
-	if (end == s || *end != '\0' || errno == ERANGE || x < lo || x > hi)
+	long x;
+	if (!range_long(s, lo, hi, &x))
 		return 0;
 	*v = (int)x;
 	return 1;
