@@ -36,6 +36,11 @@ ALL_CXXFLAGS += $(SANFLAGS)
 LDFLAGS += $(SANFLAGS)
 export ASAN_OPTIONS = detect_leaks=1:abort_on_error=0
 export UBSAN_OPTIONS = print_stacktrace=1:halt_on_error=1
+else ifeq ($(CHECK),1)
+# CHECK=1: the whole tissue is validated after every T1 (invariants.h),
+# into build-check/
+O = build-check/
+ALL_CFLAGS += -DTIS_CHECK_INVARIANTS
 else
 O =
 endif
@@ -57,7 +62,7 @@ MAN1 = $(wildcard man/*.1)
 MAN5 = $(wildcard man/*.5)
 MAN7 = $(wildcard man/*.7)
 
-.PHONY: all check bench demo deps install uninstall clean samples figures
+.PHONY: all check bench demo deps install uninstall clean samples figures fuzz fuzz-build
 
 all: $(LIB) $(PROGS)
 
@@ -154,5 +159,44 @@ uninstall:
 	  $(DESTDIR)$(PCDIR)/tis.pc $(addprefix $(DESTDIR)$(DOCDIR)/,$(notdir $(DOCS)) samples.md)
 	-rmdir $(DESTDIR)$(INCDIR) $(DESTDIR)$(DOCDIR) 2>/dev/null
 
+# make fuzz: every fuzz/*.c is a libFuzzer harness (clang, ASan + UBSan,
+# the library instrumented for coverage, in build-fuzz/), run FUZZ_S
+# seconds from its seed corpus fuzz/corpus/NAME; any finding fails it
+# (fuzz/run says where the input is).  Needs clang and libclang-rt-14-dev.
+FUZZ_S ?= 60
+FUZZ_CC ?= clang
+FUZZ_CXX ?= clang++
+FUZZ_FLAGS = -g -O1 -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined
+FUZZ_SRC = $(sort $(wildcard fuzz/*.c))
+FUZZ_BIN = $(FUZZ_SRC:fuzz/%.c=build-fuzz/%)
+FUZZ_LIB = build-fuzz/libmesh.a
+FUZZ_LIB_OBJ = $(LIB_C:%.c=build-fuzz/%.o) $(LIB_CC:%.cc=build-fuzz/%.o)
+FUZZDEBS = clang libclang-rt-14-dev
+
+build-fuzz/libmesh/%.o: libmesh/%.c $(LIB_H)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -Ilibmesh $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c -o $@ $<
+
+build-fuzz/libmesh/%.o: libmesh/%.cc $(LIB_H)
+	@mkdir -p $(@D)
+	$(FUZZ_CXX) -std=c++17 $(WARN) -Ilibmesh $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c -o $@ $<
+
+$(FUZZ_LIB): $(FUZZ_LIB_OBJ)
+	rm -f $@
+	ar rcs $@ $(FUZZ_LIB_OBJ)
+
+build-fuzz/%: fuzz/%.c $(FUZZ_LIB) $(LIB_H) tools/cli.c tools/cli.h $(PROGS_SRC)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -Ilibmesh -Itools \
+	  -DTIS_VERSION='"$(VERSION)"' $(FUZZ_FLAGS) -fsanitize=fuzzer -c -o $@.o $<
+	$(FUZZ_CXX) $(FUZZ_FLAGS) -fsanitize=fuzzer -o $@ $@.o $(FUZZ_LIB) $(LIBS)
+
+fuzz-build:
+	@./.ci/deps --quiet $(FUZZDEBS)
+	@$(MAKE) --no-print-directory $(FUZZ_BIN)
+
+fuzz: fuzz-build
+	./fuzz/run $(FUZZ_S) $(FUZZ_BIN)
+
 clean:
-	rm -rf libmesh/*.o tools/*.o $(LIB) bin tests/*.test build-san demo-out
+	rm -rf libmesh/*.o tools/*.o $(LIB) bin tests/*.test build-san build-check build-fuzz demo-out

@@ -1,10 +1,14 @@
 /* dynamics.c - explicit Euler vertex dynamics with active tensions and T1s. */
 #include "dynamics.h"
 
+#include <errno.h>
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "invariants.h"
 #include "minimize.h"
 #include "noise.h"
 #include "topology.h"
@@ -40,6 +44,16 @@ struct dyn {
 	long nt1_sorted;      /* T1s since the cells were last renumbered */
 	int have_lprev;
 	int have_dprev;       /* jd holds the last step's vectors (T1s off) */
+	/* The half-box rule of the mesh format: no junction may reach
+	 * min(lx, ly)/2.  lmax is the longest junction when last measured;
+	 * no junction has grown by more than 2 ldisp since, so lengths are
+	 * measured again only when lmax + 2 ldisp nears the limit. */
+	double lmax, ldisp;
+	int lmax_ok;
+	/* settling threshold of the stage being run, kept across a stop so
+	 * that a continued run tries to settle where the first would have
+	 * (fsettle_next >= 0: use it at the next run that takes a step) */
+	double fsettle, fsettle_next;
 	dyn_counts c;
 	dyn_t1_hook t1_hook;
 	void *t1_data;
@@ -87,6 +101,7 @@ int dyn_alloc(mesh *m, const model *p, const dyn_opts *o, unsigned long seed,
 	d->p = *p;
 	d->o = *o;
 	d->seed = seed;
+	d->fsettle_next = -1;
 	d->ws = energy_ws_alloc(m);
 	d->f = malloc(2 * (size_t)m->nv * sizeof *d->f);
 	d->jd = malloc(3 * nj * sizeof *d->jd);
@@ -287,6 +302,12 @@ static int do_t1s(dyn *d, mesh_error *err)
 			continue;
 		}
 		d->c.nt1++;
+#ifdef TIS_CHECK_INVARIANTS
+		if ((st = mesh_invariants(m, &e2)) != MESH_OK)
+			return mesh_error_set(err, 0, MESH_EDOM, "invariant broken after T1 %ld (junction "
+			                      "%d-%d) at step %ld, t = %.10g: %s", d->c.nt1, m->jv[2 * best],
+			                      m->jv[2 * best + 1], d->c.nstep, d->c.t, e2.msg);
+#endif
 		if (d->t1_hook)
 			d->t1_hook(d->t1_data, d, best, lose, m->jc + 2 * best, sqrt(lbest));
 		/* a and b moved (further than disp allows for): the junctions at
@@ -386,6 +407,28 @@ static int settle(dyn *d, double t_end, double lshort)
 	return 1;
 }
 
+/* The longest junction after moving every vertex by -dt f (the step about
+ * to be taken, with the same arithmetic); *jlong is that junction. */
+static double trial_lmax(const dyn *d, const double *f, double dt, int *jlong)
+{
+	const mesh *m = d->m;
+	const double *r = m->r;
+	double l2max = 0;
+	*jlong = 0;
+	for (int j = 0; j < m->nj; j++) {
+		int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+		double dx = (r[2 * b] - dt * f[2 * b]) - (r[2 * a] - dt * f[2 * a]) + m->jimg[2 * j];
+		double dy = (r[2 * b + 1] - dt * f[2 * b + 1]) - (r[2 * a + 1] - dt * f[2 * a + 1]) +
+			    m->jimg[2 * j + 1];
+		double q = dx * dx + dy * dy;
+		if (!(q <= l2max)) {
+			l2max = q;
+			*jlong = j;
+		}
+	}
+	return sqrt(l2max);
+}
+
 int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
             dyn_observer obs, void *data, mesh_error *err)
 {
@@ -408,6 +451,14 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 	d->margin = 20 * o.dr_max;
 	d->cand_ok = 0;
 	double fsettle = o.sigma == 0 && !feedback ? o.settle : 0;
+	if (d->fsettle_next >= 0 && d->c.t < t_end) {
+		fsettle = d->fsettle_next;
+		d->fsettle_next = -1;
+	}
+	/* a little short of half the box, so that the wrapped coordinates a
+	 * writer puts out still pass the reader's test */
+	const double lhalf = 0.5 * (m->lx < m->ly ? m->lx : m->ly) * (1 - 1e-9);
+	d->lmax_ok = 0;
 
 	while (d->c.t < t_end && !(stop && *stop)) {
 		if (t1on) {
@@ -420,6 +471,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			if (lmin < thr2) {
 				if ((st = do_t1s(d, err)) != MESH_OK)
 					return st;
+				d->lmax_ok = 0;   /* T1s moved vertices */
 				/* T1s scatter neighbouring cells over the cell
 				 * table, and a T1's cost grows with the spread;
 				 * renumbering costs about as much as 10 T1s */
@@ -450,7 +502,8 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			f2 = q[0] + q[1] > f2 ? q[0] + q[1] : f2;
 		}
 		if (!isfinite(f2))
-			return mesh_error_set(err, 0, MESH_EDOM, "forces became non-finite at t = %.6g", d->c.t);
+			return mesh_error_set(err, 0, MESH_EDOM, "forces became non-finite at step %ld, "
+			                      "t = %.10g", d->c.nstep, d->c.t);
 		double fmax = sqrt(f2);
 		if (fmax <= fsettle && tensions_below(m, fsettle)) {
 			int done = settle(d, t_end, t1on ? o.t1_length : o.l_stop);
@@ -463,6 +516,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			}
 			fsettle *= 0.01;
 		}
+		d->fsettle = fsettle;
 		double dt = o.dt_max;
 		if (fmax * dt > o.dr_max)
 			dt = o.dr_max / fmax;
@@ -470,6 +524,18 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		if (dt >= t_end - d->c.t) {
 			dt = t_end - d->c.t;
 			last = 1;
+		}
+		if (!d->lmax_ok || d->lmax + 2 * (d->ldisp + dt * fmax) >= lhalf) {
+			int jl;
+			double lm = trial_lmax(d, f, dt, &jl);
+			if (!(lm < lhalf))
+				return mesh_error_set(err, 0, MESH_EDOM, "junction %d-%d would grow to "
+				                      "length %.6g, not shorter than half the box (%.6g), "
+				                      "at step %ld, t = %.10g", m->jv[2 * jl],
+				                      m->jv[2 * jl + 1], lm, lhalf, d->c.nstep, d->c.t);
+			d->lmax = lm;
+			d->ldisp = -dt * fmax;   /* measured after this step */
+			d->lmax_ok = 1;
 		}
 		if (feedback) {
 			/* dl/dt = e.(F_b - F_a) with F = -f; the increment is applied
@@ -487,12 +553,17 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				double dot = wj[3 * j] * (f[2 * b] - f[2 * a]) +
 					     wj[3 * j + 1] * (f[2 * b + 1] - f[2 * a + 1]);
 				d->ldot[j] = dt * (o.gamma0 + dg[j]) * dot / (l * l);
+				if (!isfinite(d->ldot[j]))
+					return mesh_error_set(err, 0, MESH_EDOM, "the tension of junction "
+					                      "%d-%d became non-finite at step %ld, t = %.10g",
+					                      a, b, d->c.nstep, d->c.t);
 			}
 		}
 		v2d *rv = (v2d *)r;
 		for (int v = 0; v < nv; v++)
 			rv[v] -= dt * fv[v];
 		d->disp += dt * fmax;
+		d->ldisp += dt * fmax;
 		if (dg) {
 			if (o.ou_dt == 0) {
 				ou_step(d->noise, dg, nj, d->active, dt, o.tau, o.sigma);
@@ -524,5 +595,255 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		if (obs && obs(d, data))
 			break;
 	}
+	return MESH_OK;
+}
+
+/* ---- run state (dynamics.h, dyn_state_save) ---- */
+
+/* A growing text buffer for one state line. */
+typedef struct {
+	char *s;
+	size_t n, cap;
+	int oom;
+} sbuf;
+
+static void sb_printf(sbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+static void sb_printf(sbuf *b, const char *fmt, ...)
+{
+	if (b->oom)
+		return;
+	for (;;) {
+		va_list ap;
+		va_start(ap, fmt);
+		int k = vsnprintf(b->s ? b->s + b->n : NULL, b->s ? b->cap - b->n : 0, fmt, ap);
+		va_end(ap);
+		if (k < 0) {
+			b->oom = 1;
+			return;
+		}
+		if (b->s && b->n + (size_t)k < b->cap) {
+			b->n += (size_t)k;
+			return;
+		}
+		size_t nc = b->cap ? 2 * b->cap : 256;
+		while (nc < b->n + (size_t)k + 1)
+			nc *= 2;
+		char *q = realloc(b->s, nc);
+		if (q == NULL) {
+			b->oom = 1;
+			return;
+		}
+		b->s = q;
+		b->cap = nc;
+	}
+}
+
+/* Set state line name to the text in b (none when b is empty: a state
+ * line has text) and empty b. */
+static int sb_set(mesh *m, const char *name, sbuf *b)
+{
+	int st = b->oom ? MESH_ENOMEM : b->n ? mesh_state_set(m, name, b->s) : MESH_OK;
+	free(b->s);
+	*b = (sbuf){ 0 };
+	return st;
+}
+
+int dyn_state_save(const dyn *d)
+{
+	mesh *m = d->m;
+	sbuf b = { 0 };
+	int st;
+	/* %a: every double exactly, as a continued run needs it */
+	sb_printf(&b, "%a %ld %ld %ld %ld %a %ld %a %a %d", d->c.t, d->c.nstep, d->c.nt1,
+	          d->c.nt1_refused, d->c.nsettle, d->c.t_settled, d->nt1_sorted, d->ou_acc,
+	          d->fsettle, d->have_lprev);
+	if ((st = sb_set(m, "dyn_run", &b)) != MESH_OK)
+		return st;
+	if (d->noise) {
+		char rng[OU_STATE_LEN];
+		if (ou_state_get(d->noise, rng, sizeof rng) != MESH_OK ||
+		    (st = mesh_state_set(m, "dyn_rng", rng)) != MESH_OK)
+			return MESH_ENOMEM;
+	}
+	/* junctions in the integrator's order and orientation (a reader
+	 * numbers them afresh from the cells) */
+	for (int j = 0; j < m->nj; j++)
+		sb_printf(&b, j ? " %d %d" : "%d %d", m->jv[2 * j], m->jv[2 * j + 1]);
+	if ((st = sb_set(m, "dyn_junctions", &b)) != MESH_OK)
+		return st;
+	/* the T1 candidates and their lengths at the last step */
+	for (int j = 0; j < m->nj; j++)
+		if (d->incand[j])
+			sb_printf(&b, b.n ? " %d %a" : "%d %a", j, d->lprev[j]);
+	if ((st = sb_set(m, "dyn_t1", &b)) != MESH_OK)
+		return st;
+	/* coordinates a writer changes by wrapping them into the box */
+	for (int v = 0; v < m->nv; v++) {
+		double x = m->r[2 * v], y = m->r[2 * v + 1];
+		if (!(x >= 0 && x < m->lx && y >= 0 && y < m->ly))
+			sb_printf(&b, b.n ? " %d %a %a" : "%d %a %a", v, x, y);
+	}
+	return sb_set(m, "dyn_r", &b);
+}
+
+void dyn_state_clear(mesh *m)
+{
+	static const char *const names[] = { "dyn_run", "dyn_rng", "dyn_junctions", "dyn_t1",
+	                                     "dyn_r" };
+	for (size_t n = 0; n < sizeof names / sizeof names[0]; n++)
+		mesh_state_del(m, names[n]);
+}
+
+static int bad(mesh_error *err, const char *what)
+{
+	return mesh_error_set(err, 0, MESH_EINVAL, "state %s: not the state of a tis run of this mesh",
+	                      what);
+}
+
+/* Renumber and orient the junctions as listed in text (pairs a b). */
+static int reorder_junctions(mesh *m, const char *text, mesh_error *err)
+{
+	int nj = m->nj;
+	int *perm = malloc((size_t)(nj ? nj : 1) * sizeof *perm);  /* new id of old j */
+	int *jv = malloc(2 * (size_t)(nj ? nj : 1) * sizeof *jv);
+	int *jc = malloc(2 * (size_t)(nj ? nj : 1) * sizeof *jc);
+	double *jimg = malloc(2 * (size_t)(nj ? nj : 1) * sizeof *jimg);
+	double *dg = m->dg ? malloc((size_t)(nj ? nj : 1) * sizeof *dg) : NULL;
+	int st = MESH_OK;
+	if (!perm || !jv || !jc || !jimg || (m->dg && !dg)) {
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		goto out;
+	}
+	for (int j = 0; j < nj; j++)
+		perm[j] = -1;
+	const char *p = text;
+	for (int i = 0; i < nj; i++) {
+		char *end;
+		errno = 0;
+		long a = strtol(p, &end, 10);
+		const char *q = end;
+		long b = strtol(q, &end, 10);
+		if (end == q || errno || a < 0 || b < 0 || a >= m->nv || b >= m->nv) {
+			st = bad(err, "dyn_junctions");
+			goto out;
+		}
+		p = end;
+		int j = mesh_junction_find(m, (int)a, (int)b);
+		if (j < 0 || perm[j] >= 0) {
+			st = bad(err, "dyn_junctions");
+			goto out;
+		}
+		perm[j] = i;
+		int flip = m->jv[2 * j] != a;
+		jv[2 * i] = (int)a;
+		jv[2 * i + 1] = (int)b;
+		jc[2 * i] = m->jc[2 * j + flip];
+		jc[2 * i + 1] = m->jc[2 * j + !flip];
+		jimg[2 * i] = flip ? -m->jimg[2 * j] : m->jimg[2 * j];
+		jimg[2 * i + 1] = flip ? -m->jimg[2 * j + 1] : m->jimg[2 * j + 1];
+		if (dg)
+			dg[i] = m->dg[j];
+	}
+	while (*p == ' ')
+		p++;
+	if (*p) {
+		st = bad(err, "dyn_junctions");
+		goto out;
+	}
+	for (int i = 0; i < m->coff[m->nc]; i++)
+		m->cj[i] = perm[m->cj[i]];
+	memcpy(m->jv, jv, 2 * (size_t)nj * sizeof *jv);
+	memcpy(m->jc, jc, 2 * (size_t)nj * sizeof *jc);
+	memcpy(m->jimg, jimg, 2 * (size_t)nj * sizeof *jimg);
+	if (dg)
+		memcpy(m->dg, dg, (size_t)nj * sizeof *dg);
+out:
+	free(perm);
+	free(jv);
+	free(jc);
+	free(jimg);
+	free(dg);
+	return st;
+}
+
+int dyn_state_restore_mesh(mesh *m, mesh_error *err)
+{
+	const char *r = mesh_state_get(m, "dyn_r");
+	const char *jo = mesh_state_get(m, "dyn_junctions");
+	if (mesh_state_get(m, "dyn_run") == NULL)
+		return MESH_OK;
+	if (jo == NULL)
+		return bad(err, "dyn_junctions");
+	for (const char *p = r ? r : ""; *p;) {
+		char *end;
+		errno = 0;
+		long v = strtol(p, &end, 10);
+		if (end == p || errno || v < 0 || v >= m->nv)
+			return bad(err, "dyn_r");
+		p = end;
+		double x = strtod(p, &end);
+		const char *q = end;
+		double y = strtod(q, &end);
+		if (end == q || !isfinite(x) || !isfinite(y))
+			return bad(err, "dyn_r");
+		m->r[2 * v] = x;
+		m->r[2 * v + 1] = y;
+		p = end;
+		while (*p == ' ')
+			p++;
+	}
+	/* image offsets from the exact coordinates, then the run's numbering */
+	int st = mesh_build(m, NULL, err);
+	if (st != MESH_OK)
+		return st;
+	return reorder_junctions(m, jo, err);
+}
+
+int dyn_state_load(dyn *d, mesh_error *err)
+{
+	mesh *m = d->m;
+	const char *run = mesh_state_get(m, "dyn_run");
+	if (run == NULL)
+		return MESH_OK;
+	dyn_counts c = { 0 };
+	long sorted;
+	double acc, fs;
+	int hl, used = 0;
+	if (sscanf(run, "%la %ld %ld %ld %ld %la %ld %la %la %d%n", &c.t, &c.nstep, &c.nt1,
+	           &c.nt1_refused, &c.nsettle, &c.t_settled, &sorted, &acc, &fs, &hl, &used) != 10 ||
+	    run[used] != '\0' || !isfinite(c.t) || !(c.t >= 0) || !isfinite(acc) || !isfinite(fs))
+		return bad(err, "dyn_run");
+	const char *rng = mesh_state_get(m, "dyn_rng");
+	if (rng) {
+		if (d->noise == NULL && (d->noise = ou_alloc(d->seed)) == NULL)
+			return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		if (ou_state_set(d->noise, rng) != MESH_OK)
+			return bad(err, "dyn_rng");
+	}
+	const char *t1 = mesh_state_get(m, "dyn_t1");
+	memset(d->incand, 0, (size_t)m->nj);
+	for (const char *p = t1 ? t1 : ""; *p;) {
+		char *end;
+		errno = 0;
+		long j = strtol(p, &end, 10);
+		if (end == p || errno || j < 0 || j >= m->nj)
+			return bad(err, "dyn_t1");
+		p = end;
+		double l = strtod(p, &end);
+		if (end == p || isnan(l))
+			return bad(err, "dyn_t1");
+		d->incand[j] = 1;
+		d->lprev[j] = l;
+		p = end;
+		while (*p == ' ')
+			p++;
+	}
+	d->c = c;
+	d->nt1_sorted = sorted;
+	d->ou_acc = acc;
+	d->fsettle_next = fs;
+	d->have_lprev = hl != 0;
+	d->cand_ok = 0;
 	return MESH_OK;
 }

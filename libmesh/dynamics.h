@@ -133,6 +133,36 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 
 void dyn_counts_get(const dyn *d, dyn_counts *c);
 
+/* Resume.  A run stopped between steps continues, from the mesh it wrote,
+ * to the same final mesh, bit for bit, as a run never stopped, if the
+ * continued run is given the same options (stages, seed, ...).  What the
+ * mesh does not hold travels in its state lines (tis-mesh(5)):
+ *
+ *   dyn_run        t, steps, T1s done and refused, settles, time settled,
+ *                  T1s at the last renumbering of the cells, time since the
+ *                  last noise update, settling threshold, shrink history
+ *                  flag (doubles in C99 hex, %a, so they are exact)
+ *   dyn_rng        the random generator (ou_state_get), once it exists
+ *   dyn_junctions  the junctions (a b pairs) in the integrator's order
+ *                  and orientation: the random numbers go to junctions in
+ *                  that order, and a reader numbers them afresh
+ *   dyn_t1         the T1 candidates (junction, squared length at the last
+ *                  step): which junctions are shrinking
+ *   dyn_r          exact coordinates of the vertices outside the box (the
+ *                  writer wraps them, which rounds)
+ *
+ * dyn_state_save writes them into d's mesh (MESH_ENOMEM); dyn_state_clear
+ * removes them (a finished run leaves none).  To continue: read the mesh,
+ * dyn_state_restore_mesh (exact coordinates, junction order; MESH_OK with
+ * nothing to do if the mesh has no state), dyn_alloc, dyn_state_load
+ * (time, counts, generator, T1 history; MESH_EINVAL for a state that does
+ * not fit the mesh), then the same dyn_run calls as the first run: runs
+ * that end at or before the time reached take no step. */
+int dyn_state_save(const dyn *d);
+void dyn_state_clear(mesh *m);
+int dyn_state_restore_mesh(mesh *m, mesh_error *err);
+int dyn_state_load(dyn *d, mesh_error *err);
+
 /* Set the time (a run continued from a stopped one starts where that one
  * stopped, so that stage ends fall on the same steps). */
 void dyn_set_time(dyn *d, double t);

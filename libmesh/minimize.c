@@ -100,8 +100,12 @@ static double force_of(const ctx *c, const double *g)
 	return isfinite(gn) ? gn : HUGE_VAL;
 }
 
+/* Every method asks this before each evaluation, so a stop request ends
+ * them all the way the evaluation budget does. */
 static int budget_left(const ctx *c)
 {
+	if (c->o->stop && *c->o->stop)
+		return 0;
 	return c->neval + c->nhv < c->o->maxeval;
 }
 
@@ -573,6 +577,7 @@ int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
 		end_at_best(&c, x);
 	}
 	st = c.conv ? MESH_OK : MESH_ENOCONV;
+	rep->stopped = !c.conv && o->stop && *o->stop;
 out:
 	rep->neval = c.neval;
 	rep->niter = c.niter;

@@ -10,6 +10,8 @@
 #ifndef TIS_MINIMIZE_H
 #define TIS_MINIMIZE_H
 
+#include <signal.h>
+
 #include "geom.h"
 #include "mesh.h"
 
@@ -57,6 +59,11 @@ typedef struct {
 	int (*pcsetup)(const double *x, void *data);
 	int (*pcapply)(const double *r, double *z, void *data);
 	int pcmaxit;       /* default 6 (bench/RESULTS.md) */
+	volatile sig_atomic_t *stop; /* if not NULL: once *stop is nonzero the
+	                      method stops at its next evaluation and min_run
+	                      returns the best point so far, as when the budget
+	                      is spent (MESH_ENOCONV, rep->stopped = 1); lets a
+	                      signal handler end a long relaxation cleanly */
 	int precond;       /* 1 (default): mesh_relax and fl_sweep supply their
 	                      sparse Cholesky preconditioner; 0: plain CG
 	                      (min_run uses pcsetup/pcapply only when set) */
@@ -74,11 +81,12 @@ typedef struct {
 	long nhessvec;     /* Hessian-vector products (Newton-CG) */
 	long npolish;      /* Newton iterations of the polish (0: not needed) */
 	long npcsetup;     /* preconditioner builds (factorizations) */
+	int stopped;       /* ended early because *stop was set */
 } min_report;
 
 /* Defaults: MIN_NEWTON (fastest to every force level in bench/relax.sh,
  * see bench/RESULTS.md) with polish, ftol 1e-10, maxeval 100000, gnorm,
- * hessvec, pcsetup and pcapply NULL, pcmaxit 6, precond 1, pcmem 4e9.  maxeval bounds objective evaluations plus Hessian-vector
+ * hessvec, pcsetup, pcapply and stop NULL, pcmaxit 6, precond 1, pcmem 4e9.  maxeval bounds objective evaluations plus Hessian-vector
  * products together. */
 void min_opts_init(min_opts *o);
 

@@ -13,7 +13,11 @@ typedef long long v2i __attribute__((vector_size(16)));
 /* (y, x) from (x, y). */
 static inline v2d v2d_swap(v2d a)
 {
+#ifdef __clang__   /* the fuzzing build (make fuzz) */
+	return __builtin_shufflevector(a, a, 1, 0);
+#else
 	return __builtin_shuffle(a, (v2i){ 1, 0 });
+#endif
 }
 
 #endif

@@ -17,6 +17,7 @@
  * Everything C++ stays in this file; the C boundary catches every exception.
  */
 #include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/assertions_behaviour.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
@@ -33,10 +34,15 @@
 #include <cstring>
 #include <exception>
 #include <new>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "voronoi.h"
+
+extern "C" {
+#include "range.h"  /* plain C, like mesh.h */
+}
 
 namespace {
 
@@ -71,9 +77,29 @@ struct Failure {
 #define FAIL(err, status, ...) throw Failure{mesh_error_set((err), 0, (status), __VA_ARGS__)}
 
 /* Run f, turning every exception into a status: nothing may unwind into C. */
+void quiet_failure(const char *, const char *, const char *, int, const char *)
+{
+}
+
+/* CGAL's default failure handler prints several lines to std::cerr before
+ * it throws; for the time of f it is silenced (and put back after), so a
+ * failure reaches the caller as one status and message. */
+struct Quiet_cgal {
+	CGAL::Failure_function old_error, old_warning;
+	Quiet_cgal()
+		: old_error(CGAL::set_error_handler(quiet_failure)),
+		  old_warning(CGAL::set_warning_handler(quiet_failure)) {}
+	~Quiet_cgal()
+	{
+		CGAL::set_error_handler(old_error);
+		CGAL::set_warning_handler(old_warning);
+	}
+};
+
 template <class F>
 int guarded(mesh_error *err, F f)
 {
+	Quiet_cgal quiet;
 	try {
 		return f();
 	} catch (const Failure &e) {
@@ -81,7 +107,10 @@ int guarded(mesh_error *err, F f)
 	} catch (const std::bad_alloc &) {
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	} catch (const std::exception &e) {
-		return mesh_error_set(err, 0, MESH_EINVAL, "triangulation failed: %s", e.what());
+		/* what() of a CGAL failure is several lines: keep the first */
+		std::string w = e.what();
+		return mesh_error_set(err, 0, MESH_EINVAL, "triangulation failed: %.120s",
+		                      w.substr(0, w.find('\n')).c_str());
 	} catch (...) {
 		return mesh_error_set(err, 0, MESH_EINVAL, "triangulation failed");
 	}
@@ -148,6 +177,14 @@ void check_input(double lx, double ly, int n, const double *xy, mesh_error *err)
 	for (int i = 0; i < 2 * n; i++)
 		if (!std::isfinite(xy[i]))
 			FAIL(err, MESH_EINVAL, "seed %d has a non-finite coordinate", i / 2);
+	/* Fewer than about one seed across the box's short side: cells span
+	 * it and border their own images, so there is no tissue, and the
+	 * copies a margin of a few spacings needs grow as spacing/side (found
+	 * by fuzz/seeds: 3 seeds in a 0.01 x 62 box took seconds). */
+	double h = std::sqrt(lx * ly / n), side = std::min(lx, ly);
+	if (side < 0.5 * h)
+		FAIL(err, MESH_EINVAL, "too few seeds for a periodic triangulation of this box (the "
+		     "seed spacing %.3g is more than twice the short side %.3g)", h, side);
 }
 
 void place_seeds(Tessellation &t, const double *xy, mesh_error *err)
@@ -458,8 +495,10 @@ void tessellate(double lx, double ly, int n, const double *xy, Tessellation &t, 
 extern "C" int voronoi_seeds_random(unsigned long seed, double lx, double ly, int n,
                                     double *xy, mesh_error *err)
 {
-	if (!(lx > 0 && ly > 0 && std::isfinite(lx) && std::isfinite(ly)) || n < 0)
-		return mesh_error_set(err, 0, MESH_EINVAL, "box must have positive finite sides");
+	if (range_box(lx, ly, err) != MESH_OK)
+		return MESH_EINVAL;
+	if (n < 0)
+		return mesh_error_set(err, 0, MESH_EINVAL, "negative number of seeds");
 	/* A gsl_rng on the stack: gsl_rng_alloc would call GSL's error
 	 * handler, which aborts, when out of memory. */
 	gsl_rng r;
@@ -543,6 +582,8 @@ extern "C" int voronoi_tissue(double lx, double ly, int n, const double *xy,
                               mesh **out, voronoi_info *info, mesh_error *err)
 {
 	*out = NULL;
+	if (range_box(lx, ly, err) != MESH_OK)
+		return MESH_EINVAL;
 	return guarded(err, [&]() {
 		Tessellation t;
 		tessellate(lx, ly, n, xy, t, err);
@@ -570,6 +611,8 @@ extern "C" int voronoi_tissue(double lx, double ly, int n, const double *xy,
 extern "C" int voronoi_lloyd(double lx, double ly, int n, double *xy, int k,
                              mesh_error *err)
 {
+	if (range_box(lx, ly, err) != MESH_OK)
+		return MESH_EINVAL;
 	return guarded(err, [&]() {
 		if (k < 0)
 			FAIL(err, MESH_EINVAL, "negative number of Lloyd iterations");

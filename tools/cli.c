@@ -7,6 +7,10 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include "range.h"
 
 /* OpenBLAS's own call (LIBS links it by name). */
 void openblas_set_num_threads(int n);
@@ -27,6 +31,10 @@ void cli_init(const char *name, const char *usage, int argc, char *const argv[])
 		cli_die(EXIT_INPUT, "out of memory");
 	memcpy(cli_argv, argv, ((size_t)argc + 1) * sizeof *cli_argv);
 	opterr = 0; /* getopt's own messages would name argv[0], not cli_name */
+	/* a reader that goes away must not kill us in the middle of a record:
+	 * the write fails with EPIPE instead, and we say so (cli_write_error) */
+	signal(SIGPIPE, SIG_IGN);
+	cli_catch_signals();
 	/* GSL's default handler aborts; libmesh checks GSL's status codes */
 	gsl_set_error_handler_off();
 	/* One BLAS thread unless asked: a second was slower for the dense
@@ -95,12 +103,28 @@ void cli_version(void)
 
 double cli_double(const char *opt, const char *arg)
 {
-	char *end;
-	errno = 0;
-	double v = strtod(arg, &end);
-	if (end == arg || *end != '\0' || errno == ERANGE || !isfinite(v))
+	double v;
+	if (!range_number(arg, &v))
 		cli_usage_error("%s: not a finite number: '%s'", opt, arg);
 	return v;
+}
+
+double cli_param(const char *opt, const char *arg, const char *name)
+{
+	double v = cli_double(opt, arg);
+	mesh_error err;
+	if (range_param(name, v, &err) != MESH_OK)
+		cli_usage_error("%s: %s", opt, err.msg);
+	return v;
+}
+
+void cli_box(const char *ax, const char *ay, double *lx, double *ly)
+{
+	*lx = cli_double("--box", ax);
+	*ly = cli_double("--box", ay);
+	mesh_error err;
+	if (range_box(*lx, *ly, &err) != MESH_OK)
+		cli_usage_error("--box: %s", err.msg);
 }
 
 double cli_double_range(const char *opt, const char *arg, double lo, double hi)
@@ -155,18 +179,91 @@ mesh *cli_read_one(const char *path)
 {
 	FILE *f = cli_open(path);
 	long line = 0;
-	mesh *m;
+	mesh *m, *more;
 	if (!cli_read_mesh(f, path, &line, &m))
 		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(path));
+	/* the rest of the input must be empty: a second mesh or garbage after
+	 * the first is a mistake (cat a b |), not something to ignore */
+	if (cli_read_mesh(f, path, &line, &more))
+		cli_die(EXIT_INPUT, "%s:%ld: a second mesh, but %s reads one", cli_input_name(path),
+		        line, cli_name);
 	if (f != stdin)
 		fclose(f);
 	return m;
 }
 
+/* Memory the system can give now (MemAvailable), or all of it if that is
+ * unknown; 0 if neither is. */
+static double available_bytes(void)
+{
+	FILE *f = fopen("/proc/meminfo", "r");
+	if (f) {
+		char line[256];
+		double kb = 0;
+		while (fgets(line, sizeof line, f))
+			if (sscanf(line, "MemAvailable: %lf kB", &kb) == 1)
+				break;
+		fclose(f);
+		if (kb > 0)
+			return kb * 1024;
+	}
+	long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+	return pages > 0 && size > 0 ? (double)pages * size : 0;
+}
+
+/* The smaller of that and the address-space limit (ulimit -v). */
+static double usable_bytes(void)
+{
+	double avail = available_bytes();
+	struct rlimit rl;
+	if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY &&
+	    (avail == 0 || (double)rl.rlim_cur < avail))
+		avail = (double)rl.rlim_cur;
+	return avail;
+}
+
+void cli_size_check(const char *what, double mem, double out)
+{
+	double avail = usable_bytes();
+	if (avail > 0 && mem > avail)
+		cli_die(EXIT_INPUT, "%s would need about %.1f GB of memory, %.1f GB available: "
+		        "refused", what, mem / 1e9, avail / 1e9);
+	if (mem > 1e9 || out > 1e9)
+		cli_warn("%s: about %.1f GB of memory and %.1f GB of output", what, mem / 1e9,
+		         out / 1e9);
+}
+
+void cli_write_error(const char *what)
+{
+	if (errno == EPIPE)
+		cli_die(EXIT_NOCONV, "%s closed early (broken pipe): output incomplete", what);
+	cli_die(EXIT_INPUT, "%s: write error: %s", what, strerror(errno));
+}
+
+int cli_mesh_check(const mesh *m, mesh_error *err)
+{
+	mesh *c = mesh_copy(m);
+	if (c == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	mesh_wrap(c);
+	int st = mesh_build(c, NULL, err);
+	mesh_free(c);
+	return st;
+}
+
 void cli_write_mesh(const mesh *m)
 {
-	if (mesh_write(stdout, m) != MESH_OK)
-		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
+	/* the reader's rules, on what the reader will see (wrapped
+	 * coordinates): a program never writes a mesh that it rejects */
+	mesh_error err;
+	int st = cli_mesh_check(m, &err);
+	if (st == MESH_ENOMEM)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (st != MESH_OK)
+		cli_die(EXIT_NOCONV, "the result is not a valid mesh (%s): not written", err.msg);
+	errno = 0;
+	if (mesh_write(stdout, m) != MESH_OK || fflush(stdout) != 0)
+		cli_write_error("stdout");
 }
 
 void cli_write_frame(mesh *m, double t)
@@ -223,17 +320,41 @@ void cli_history_note(mesh *m, const char *note)
 	m->hist[m->nhist - 1] = s;
 }
 
+static void close_stdout(void)
+{
+	errno = 0;
+	if (fflush(stdout) != 0 || ferror(stdout) || fclose(stdout) != 0)
+		cli_write_error("stdout");
+}
+
 void cli_finish(void)
 {
-	if (fflush(stdout) != 0 || ferror(stdout) || fclose(stdout) != 0)
-		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
+	close_stdout();
 	exit(0);
 }
 
+void cli_finish_status(int status, const char *fmt, ...)
+{
+	close_stdout();
+	if (fmt) {
+		va_list ap;
+		va_start(ap, fmt);
+		vmsg(fmt, ap);
+		va_end(ap);
+	}
+	exit(status);
+}
+
+/* The first signal asks for a clean stop; a second one (the user means
+ * it) ends the program at once, as if it were not caught. */
 static void on_signal(int sig)
 {
-	(void)sig;
-	cli_stop = 1;
+	if (cli_stop) {
+		signal(sig, SIG_DFL);
+		raise(sig);
+		return;
+	}
+	cli_stop = sig;
 }
 
 void cli_catch_signals(void)
@@ -242,6 +363,9 @@ void cli_catch_signals(void)
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_signal;
 	sigemptyset(&sa.sa_mask);
+	/* reads and writes go on after the signal: a program reading its
+	 * input when told to stop still gets the record being written to it */
+	sa.sa_flags = SA_RESTART;
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
 }
@@ -292,4 +416,9 @@ void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, lon
 	if (optind >= argc)
 		cli_usage_error("option '%s' needs two vertex ids", opt);
 	*b = cli_long(opt, argv[optind++], 0, 2000000000);
+}
+
+const char *cli_stop_name(void)
+{
+	return cli_stop == SIGINT ? "SIGINT" : cli_stop == SIGTERM ? "SIGTERM" : "a signal";
 }

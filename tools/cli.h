@@ -38,6 +38,11 @@ _Noreturn void cli_version(void);
 double cli_double(const char *opt, const char *arg);
 double cli_double_range(const char *opt, const char *arg, double lo, double hi);
 long cli_long(const char *opt, const char *arg, long lo, long hi);
+/* Model parameter name given by option opt: a finite number in the range
+ * every source of it shares (range.h); otherwise a usage error. */
+double cli_param(const char *opt, const char *arg, const char *name);
+/* --box LX LY: two numbers in range_box's range. */
+void cli_box(const char *ax, const char *ay, double *lx, double *ly);
 
 /* A list option: "v1,v2,..." or a range "lo:hi:n" (n points, both ends
  * included), each value finite; malloc'd, *n values.  Usage error
@@ -56,10 +61,25 @@ const char *cli_input_name(const char *path);
 /* Read the next mesh: 1 and *m set, 0 at the end of the stream; exit 1 with
  * "tis-foo: NAME:LINE: message" on bad input. */
 int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m);
-/* Read exactly one mesh (the first of the stream); exit 1 if there is none. */
+/* Read exactly one mesh; exit 1 if there is none, or if anything but the
+ * end of the input follows it (a second mesh, garbage). */
 mesh *cli_read_one(const char *path);
-/* Write a mesh to stdout; exit 1 on a write error. */
+/* Hostile sizes: a job that would need mem bytes of memory (an estimate
+ * the caller measured, bench/RESULTS.md) and write out bytes is refused
+ * (exit 1, one line) if mem is more than the system has available now,
+ * and announced on stderr (what it will cost) if either is above 1 GB.
+ * what names the job ("tis-hex 10000 1000: 1e7 cells"). */
+void cli_size_check(const char *what, double mem, double out);
+/* Whether m, written and read back, passes the reader's checks: MESH_OK,
+ * or the reader's error. */
+int cli_mesh_check(const mesh *m, mesh_error *err);
+/* Write a mesh to stdout and flush it (a record is complete or absent):
+ * exit 3 if it would not read back (cli_mesh_check), 3 if stdout was
+ * closed early (EPIPE), 1 on another write error. */
 void cli_write_mesh(const mesh *m);
+/* A failed write of what ("stdout", a file name), errno set: exit 3 for a
+ * reader that went away (EPIPE), else 1. */
+_Noreturn void cli_write_error(const char *what);
 /* Write a frame of a run to stdout: a "# NAME frame t T" comment, then m
  * with a "state t T" line (the frame's time, which tis-info and tis-vtk
  * read); m keeps the state lines it had.  Exit 1 on a write error or out
@@ -80,10 +100,23 @@ void cli_table_header(FILE *f, const mesh *m, const char *cols);
 
 /* Close stdout and exit 0, or exit 1 on a write error. */
 _Noreturn void cli_finish(void);
+/* Close stdout, print the message (if fmt is not NULL) and exit with
+ * status; a write error exits as cli_finish's. */
+_Noreturn void cli_finish_status(int status, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
 
-/* SIGINT and SIGTERM set cli_stop instead of killing the program, so long
- * runs can finish what they are writing. */
+/* SIGINT and SIGTERM set cli_stop (to the signal number) instead of
+ * killing the program, so long runs can stop at a clean point, write
+ * complete records marked "interrupted" and exit 3 (tis(7)); a program
+ * that does not look at cli_stop finishes what it is doing (reading the
+ * rest of its input from a program that is stopping), so a pipeline
+ * stopped by one Ctrl-C leaves the last program's output.  A second signal
+ * kills as usual.  Reads and writes are restarted after the signal.
+ * cli_init installs this (cli_catch_signals) and ignores SIGPIPE for every
+ * program: a write to a closed pipe fails and cli_write_error says so. */
 extern volatile sig_atomic_t cli_stop;
 void cli_catch_signals(void);
+/* "SIGINT" or "SIGTERM": what set cli_stop. */
+const char *cli_stop_name(void);
 
 #endif

@@ -1,5 +1,6 @@
 /* tis-anneal - fluidize, quench and relax a tissue with OU tension noise
  * and T1 transitions (the paper's sample preparation). */
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdlib.h>
@@ -125,8 +126,8 @@ static struct opts parse(int argc, char **argv)
 		case O_RELAX: o.relax = cli_double_range("--relax", optarg, 0, 1e9); break;
 		case O_TAU: o.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
 		case O_SEED: o.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_P0: o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
+		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
 		case O_EVERY: o.every = cli_double_range("--every", optarg, 1e-6, 1e9); break;
 		case O_LOG: o.log = optarg; break;
 		case O_LOGEVERY: o.log_every = cli_double_range("--log-every", optarg, 1e-6, 1e9); break;
@@ -176,15 +177,23 @@ struct run {
 	int stage, nstage;
 	int tty;
 	time_t last_progress;
+	int log_errno;        /* the log could not be written: stop */
+	char why[300];        /* why the run stopped early, "" if it did not */
 };
 
 static void log_row(struct run *u)
 {
+	if (u->log_errno)
+		return;
 	dyn_counts c;
 	dyn_counts_get(u->d, &c);
+	errno = 0;
 	fprintf(u->log, "%.10g\t%.6f\t%.12g\t%ld\n", c.t,
 		(double)count_hex(u->m) / u->m->nc, dyn_energy(u->d), c.nt1);
-	fflush(u->log);   /* a long run can be watched with tail -f */
+	/* flushed: a long run can be watched with tail -f, and a full disk
+	 * is noticed now, not at the end */
+	if (fflush(u->log) != 0 || ferror(u->log))
+		u->log_errno = errno ? errno : EIO;
 }
 
 static void progress(struct run *u, int force)
@@ -222,16 +231,40 @@ static int observe(dyn *d, void *data)
 	}
 	if (u->tty && (c.nstep & 4095) == 0)
 		progress(u, 0);
-	return 0;
+	return u->log_errno != 0;
 }
 
-/* Run to cumulative time t_end; 0 when interrupted. */
+/* Run to cumulative time t_end; 0 when the run stopped early (u->why
+ * says why; the mesh is the last valid state). */
 static int run_to(struct run *u, double t_end)
 {
 	mesh_error err;
-	if (dyn_run(u->d, t_end, &cli_stop, observe, u, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
-	return !cli_stop;
+	int st = dyn_run(u->d, t_end, &cli_stop, observe, u, &err);
+	if (st == MESH_ENOMEM)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (st != MESH_OK)
+		snprintf(u->why, sizeof u->why, "stopped: %s", err.msg);
+	else if (u->log_errno)
+		snprintf(u->why, sizeof u->why, "stopped: %s: write error: %s", u->o->log,
+		         strerror(u->log_errno));
+	else if (cli_stop) {
+		dyn_counts c;
+		dyn_counts_get(u->d, &c);
+		snprintf(u->why, sizeof u->why, "interrupted by %s at step %ld, t = %.10g",
+		         cli_stop_name(), c.nstep, c.t);
+	}
+	return u->why[0] == '\0';
+}
+
+/* The options a continued run must share with the first, as text. */
+static void protocol(const struct opts *o, char *buf, size_t n)
+{
+	int len = snprintf(buf, n, "stages");
+	for (int i = 0; i < o->nstage; i++)
+		len += snprintf(buf + len, n - len, " %.17g:%.17g", o->sig[i], o->dur[i]);
+	snprintf(buf + len, n - len, " relax %.17g tau %.17g seed %lu dt %.17g dr %.17g ou_dt %.17g "
+	         "settle %.17g t1 %.17g t1_new %.17g", o->relax, o->tau, o->seed, o->d.dt_max,
+	         o->d.dr_max, o->d.ou_dt, o->d.settle, o->d.t1_length, o->d.t1_new);
 }
 
 int main(int argc, char **argv)
@@ -239,6 +272,16 @@ int main(int argc, char **argv)
 	cli_init("tis-anneal", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 	mesh *m = cli_read_one(o.input);
+	/* a mesh left by a stopped run continues it (dynamics.h, "Resume") */
+	char proto[2048];
+	protocol(&o, proto, sizeof proto);
+	const char *was = mesh_state_get(m, "anneal_run");
+	if (was && strcmp(was, proto) != 0)
+		cli_die(EXIT_INPUT, "the mesh holds the state of a stopped tis-anneal run with other "
+		        "options (%s): give the same options to continue it", was);
+	mesh_error rerr;
+	if (was && dyn_state_restore_mesh(m, &rerr) != MESH_OK)
+		cli_die(EXIT_INPUT, "%s: %s", cli_input_name(o.input), rerr.msg);
 	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
 	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
 		cli_die(EXIT_INPUT, "out of memory");
@@ -258,17 +301,31 @@ int main(int argc, char **argv)
 		mesh h = *m;
 		h.nhist--;
 		cli_table_header(u.log, &h, "t\tf6\tenergy\tt1");
+		if (fflush(u.log) != 0)
+			u.log_errno = errno ? errno : EIO;
 	}
 	mesh_error err;
 	if (dyn_alloc(m, &p, &o.d, o.seed, &u.d, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
+	if (was && dyn_state_load(u.d, &err) != MESH_OK)
+		cli_die(EXIT_INPUT, "%s: %s", cli_input_name(o.input), err.msg);
+	/* used up: frames and the final mesh carry only a new one */
+	dyn_state_clear(m);
+	mesh_state_del(m, "anneal_run");
+	dyn_counts c0;
+	dyn_counts_get(u.d, &c0);
 	cli_catch_signals();
-	if (u.log) {
+	/* frames and log rows at the first step at or after each multiple of
+	 * their interval; a continued run goes on with the next one */
+	if (u.log)
 		log_row(&u);
+	do
 		u.next_log = ++u.klog * o.log_every;
-	}
+	while (u.next_log <= c0.t);
 	if (o.every > 0)
-		u.next_frame = ++u.kframe * o.every;
+		do
+			u.next_frame = ++u.kframe * o.every;
+		while (u.next_frame <= c0.t);
 
 	u.nstage = o.nstage + (o.relax > 0);
 	double tcum = 0;
@@ -321,15 +378,23 @@ int main(int argc, char **argv)
 		len += snprintf(note + len, sizeof note - len, "; %ld sigma=0 stages finished by "
 				"Newton minimization at fixed topology once max force and tension <= %g "
 				"(settle), covering %.10g time units", c.nsettle, o.d.settle, c.t_settled);
+	if (was)
+		len += snprintf(note + len, sizeof note - len, "; continued from t %.10g", c0.t);
 	if (!done)
-		snprintf(note + len, sizeof note - len, "; interrupted");
+		snprintf(note + len, sizeof note - len, "; %s", u.why);
 	cli_history_note(m, note);
+	/* a stopped run leaves what continuing it needs; a finished one none */
+	if (!done && (dyn_state_save(u.d) != MESH_OK || mesh_state_set(m, "anneal_run", proto) != MESH_OK))
+		cli_die(EXIT_INPUT, "out of memory");
 
 	if (u.log) {
-		if (!done)
+		if (!done) {
 			log_row(&u);
-		if (fclose(u.log) != 0)
-			cli_die(EXIT_INPUT, "%s: write error", o.log);
+			fprintf(u.log, "# %s %s\n", cli_name, u.why);
+		}
+		errno = 0;
+		if ((ferror(u.log) || fclose(u.log) != 0) && !u.log_errno)
+			u.log_errno = errno ? errno : EIO;
 	}
 	if (o.every > 0)
 		printf("# %s final t %.10g\n", cli_name, c.t);
@@ -343,10 +408,10 @@ int main(int argc, char **argv)
 	cli_write_mesh(m);
 	dyn_free(u.d);
 	mesh_free(m);
-	if (!done) {
-		if (fflush(stdout) != 0)
-			cli_die(EXIT_INPUT, "write error");
-		cli_die(EXIT_NOCONV, "interrupted at t %.6g, wrote the current mesh", c.t);
-	}
+	if (u.log_errno)
+		cli_finish_status(EXIT_INPUT, "%s: write error: %s%s", o.log, strerror(u.log_errno),
+		                  done ? "" : "; wrote the mesh where the run stopped");
+	if (!done)
+		cli_finish_status(EXIT_NOCONV, "%s: wrote the last valid mesh", u.why);
 	cli_finish();
 }

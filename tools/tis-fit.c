@@ -8,6 +8,7 @@
 
 #include "cli.h"
 #include "fit.h"
+#include "range.h"
 
 static const char usage[] =
 	"[--degree N] [--window W] [--branch out|back|all] [--max-fres F] [--cusps [--threshold T]] [--summary] [TABLE]";
@@ -215,13 +216,22 @@ static int split(char *s, char **fld, int max)
 
 static double num(const char *s, const char *col, long line)
 {
-	char *end;
-	errno = 0;
-	double v = strtod(s, &end);
-	if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v))
+	double v;
+	if (!range_number(s, &v))
 		cli_die(EXIT_INPUT, "%s:%ld: column %s: not a finite number: '%s'",
 		        input_name, line, col, s);
 	return v;
+}
+
+/* A vertex id column: a whole number in [0, 2e9] (found by fuzzing: a
+ * huge one made the conversion to long undefined). */
+static long vertex_id(const char *s, const char *col, long line)
+{
+	double v = num(s, col, line);
+	if (v < 0 || v != floor(v) || v > 2e9)
+		cli_die(EXIT_INPUT, "%s:%ld: column %s: not a vertex id: '%s'", input_name, line,
+		        col, s);
+	return (long)v;
 }
 
 static int is_number(const char *s)
@@ -266,7 +276,7 @@ int main(int argc, char **argv)
 	char *buf = NULL;
 	size_t bufsz = 0;
 	long line = 0;
-	int rows = 0;
+	int rows = 0, interrupted = 0;
 	/* The table's provenance: the input's '#' lines before its first row
 	 * (the command lines that made it), then this command line.  A mesh
 	 * with no cells carries them as its history. */
@@ -277,11 +287,20 @@ int main(int argc, char **argv)
 		: o.summary ? "p0\tn\ta1_q1\ta1_med\ta1_q3\ta3_q1\ta3_med\ta3_q3"
 		: "p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\tfres_max";
 
-	while (getline(&buf, &bufsz, in) != -1) {
+	ssize_t got;
+	while ((got = getline(&buf, &bufsz, in)) != -1) {
 		line++;
 		char *fld[64];
 		char *s = buf + strspn(buf, " \t");
 		int n;
+		/* every writer ends its lines: a last line without a newline is
+		 * a table cut off (head -c, a full disk, a killed writer) */
+		if (buf[got - 1] != '\n')
+			cli_die(EXIT_INPUT, "%s:%ld: the input ends in the middle of a line (cut off)",
+			        input_name, line);
+		/* the mark of a writer that was stopped: fewer curves than asked */
+		if (*s == '#' && strstr(s, " interrupted by "))
+			interrupted = 1;
 		if (*s == '#') {
 			/* provenance, or an old-style '# p0 j ...' header: that is
 			 * a '#' line naming every column needed */
@@ -325,8 +344,8 @@ int main(int argc, char **argv)
 		if (jd < 0 || jd != floor(jd) || jd > 2e9)
 			cli_die(EXIT_INPUT, "%s:%ld: column j: not a junction index: '%s'",
 			        input_name, line, fld[col[C_J]]);
-		long a = col[C_A] >= 0 ? (long)num(fld[col[C_A]], "a", line) : -1;
-		long b = col[C_B] >= 0 ? (long)num(fld[col[C_B]], "b", line) : -1;
+		long a = col[C_A] >= 0 ? vertex_id(fld[col[C_A]], "a", line) : -1;
+		long b = col[C_B] >= 0 ? vertex_id(fld[col[C_B]], "b", line) : -1;
 		const char *dir = fld[col[C_DIR]];
 		int isrest = strcmp(dir, "rest") == 0, isout = strcmp(dir, "out") == 0;
 		int isback = strcmp(dir, "back") == 0;
@@ -389,5 +408,11 @@ int main(int argc, char **argv)
 	free(c.l);
 	free(c.f);
 	free(buf);
+	if (interrupted) {
+		printf("# %s: the input table is marked interrupted: these are fits of the "
+		       "curves it has\n", cli_name);
+		cli_finish_status(EXIT_NOCONV, "%s: the input is marked interrupted (a writer "
+		                  "was stopped): fitted the whole curves it has", input_name);
+	}
 	cli_finish();
 }

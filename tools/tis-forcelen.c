@@ -1,9 +1,12 @@
 /* tis-forcelen - quasistatic force-extension curves f(l) of junctions. */
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
 
 
 #include "cli.h"
@@ -131,8 +134,8 @@ static struct opts parse(int argc, char **argv)
 			break;
 		case O_SEED: o.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
 		case O_ALL: set_sel(&o, SEL_ALL); break;
-		case O_P0: o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
+		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
 		case O_STEP: o.fl.step = cli_double_range("--step", optarg, 1e-9, 10); break;
 		case O_RANGE: o.fl.range = cli_double_range("--range", optarg, 0, 100); break;
 		case O_LMIN: o.fl.lmin = cli_double_range("--lmin", optarg, 1e-9, 100); break;
@@ -196,8 +199,10 @@ static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 }
 
 /* Work shared by the sweep threads: junction k of sel goes to whichever
- * thread asks next, its points into res[k], so the output order does not
- * depend on the threads. */
+ * thread asks next, its points into res[k].  Curves are written in the
+ * order of sel as soon as they and all before them are complete, so the
+ * output does not depend on the threads and a run killed by its batch
+ * system keeps every curve finished so far. */
 struct job {
 	const mesh *m;
 	const model *p;
@@ -207,9 +212,69 @@ struct job {
 	fl_point **res;
 	int *nres, *status;
 	int next;
+	int out;           /* curves 0..out-1 are written (or skipped) */
+	int written;       /* whole curves written */
+	int rows, badpoints;
+	double worst;
+	int tty;
+	time_t last_progress;
+	int werr;          /* errno of a failed write to stdout */
 	pthread_mutex_t lock;
 	int oom;
 };
+
+/* Whether curve k is finished: swept to its last point.  An interrupted
+ * sweep ends early (fewer points): it is never written. */
+static int complete(const struct job *jb, int k)
+{
+	int st = jb->status[k];
+	return (st == MESH_OK || st == MESH_ENOCONV) &&
+	       jb->nres[k] == fl_npoints(jb->m, jb->sel[k], jb->fl);
+}
+
+static void write_curve(struct job *jb, int k)
+{
+	const mesh *m = jb->m;
+	int j = jb->sel[k];
+	double l0 = junction_length(m, m->r, j);
+	for (int i = 0; i < jb->nres[k]; i++) {
+		const fl_point *q = &jb->res[k][i];
+		printf("%.10g\t%d\t%d\t%d\t%.12g\t%s\t%.12g\t%.12g\t%.15g\t%.3g\n",
+		       jb->p->p0, j, m->jv[2 * j], m->jv[2 * j + 1], l0,
+		       fl_dir_name(q->dir), q->l, q->f, q->W, q->fres);
+		jb->rows++;
+		if (q->status != MESH_OK) {
+			jb->badpoints++;
+			if (!(q->fres <= jb->worst))
+				jb->worst = q->fres;
+		}
+	}
+	errno = 0;
+	if (fflush(stdout) != 0 || ferror(stdout)) {
+		jb->werr = errno ? errno : EIO;
+		cli_stop = SIGPIPE;   /* nobody reads the rest: stop the sweeps */
+	}
+	jb->written++;
+}
+
+/* With the lock held: write the curves that are now next in order. */
+static void flush_curves(struct job *jb)
+{
+	while (jb->out < jb->count && jb->status[jb->out] != -1 && !jb->werr) {
+		int k = jb->out++;
+		if (complete(jb, k))
+			write_curve(jb, k);
+		free(jb->res[k]);
+		jb->res[k] = NULL;
+	}
+	if (jb->tty) {
+		time_t now = time(NULL);
+		if (now != jb->last_progress || jb->out == jb->count) {
+			jb->last_progress = now;
+			fprintf(stderr, "\r%s: %d/%d curves   ", cli_name, jb->out, jb->count);
+		}
+	}
+}
 
 static void *worker(void *arg)
 {
@@ -223,9 +288,15 @@ static void *worker(void *arg)
 		pthread_mutex_unlock(&jb->lock);
 		if (w == NULL || k >= jb->count || cli_stop)
 			break;
-		int st = fl_sweep(jb->m, jb->p, jb->sel[k], jb->fl, w, jb->res[k],
-		                  &jb->nres[k], &cli_stop);
+		jb->res[k] = malloc(((size_t)fl_npoints(jb->m, jb->sel[k], jb->fl) + 1) *
+		                    sizeof **jb->res);
+		int st = jb->res[k] ? fl_sweep(jb->m, jb->p, jb->sel[k], jb->fl, w, jb->res[k],
+		                               &jb->nres[k], &cli_stop) : MESH_ENOMEM;
+		pthread_mutex_lock(&jb->lock);
 		jb->status[k] = st;
+		if (st == MESH_OK || st == MESH_ENOCONV)
+			flush_curves(jb);
+		pthread_mutex_unlock(&jb->lock);
 	}
 	fl_work_free(w);
 	return NULL;
@@ -273,12 +344,10 @@ int main(int argc, char **argv)
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;
-	int nmesh = 0, badpoints = 0, allpoints = 0;
+	int nmesh = 0, badpoints = 0, allpoints = 0, written = 0, asked = 0;
 	double worst = 0;
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
-		/* the header waits for a valid mesh: bad input leaves no output */
-		if (nmesh++ == 0)
-			print_header(m, o.linear);
+		nmesh++;
 		model p = model_from_mesh(m);
 		if (o.has_p0)
 			p.p0 = o.p0;
@@ -287,6 +356,10 @@ int main(int argc, char **argv)
 		relax_input(m, &p, &o);
 		int count;
 		int *sel = select_junctions(&o, m, &count);
+		/* the header waits for a valid mesh and junction: bad input
+		 * leaves no output */
+		if (nmesh == 1)
+			print_header(m, o.linear);
 
 		if (o.linear) {
 			fl_linear *lr;
@@ -308,18 +381,17 @@ int main(int argc, char **argv)
 			continue;
 		}
 
-		struct job jb = { .m = m, .p = &p, .fl = &o.fl, .sel = sel, .count = count };
+		struct job jb = { .m = m, .p = &p, .fl = &o.fl, .sel = sel, .count = count,
+		                  .tty = isatty(2) };
 		jb.res = calloc((size_t)count + 1, sizeof *jb.res);
 		jb.nres = calloc((size_t)count + 1, sizeof *jb.nres);
 		jb.status = calloc((size_t)count + 1, sizeof *jb.status);
 		if (!jb.res || !jb.nres || !jb.status)
 			cli_die(EXIT_INPUT, "out of memory");
-		for (int k = 0; k < count; k++) {
-			jb.res[k] = malloc(((size_t)fl_npoints(m, sel[k], &o.fl) + 1) * sizeof **jb.res);
-			if (jb.res[k] == NULL)
-				cli_die(EXIT_INPUT, "out of memory");
+		/* a curve's points are allocated when it is swept and freed once
+		 * written: memory for a few curves, not for all of them */
+		for (int k = 0; k < count; k++)
 			jb.status[k] = -1;  /* not done */
-		}
 		pthread_mutex_init(&jb.lock, NULL);
 		int nt = o.threads < count ? o.threads : count;
 		pthread_t tid[64];
@@ -331,30 +403,30 @@ int main(int argc, char **argv)
 		for (int t = 1; t <= started; t++)
 			pthread_join(tid[t], NULL);
 		pthread_mutex_destroy(&jb.lock);
+		if (jb.tty)
+			fputc('\n', stderr);
 		if (jb.oom)
 			cli_die(EXIT_INPUT, "out of memory");
-
-		for (int k = 0; k < count; k++) {
-			int j = sel[k], st = jb.status[k];
-			if (st == -1 || (cli_stop && st != MESH_OK && st != MESH_ENOCONV))
-				break;   /* interrupted: only whole curves are written */
-			if (st != MESH_OK && st != MESH_ENOCONV)
-				cli_die(EXIT_INPUT, "junction %d: %s", j,
-				        st == MESH_ENOMEM ? "out of memory" : "sweep failed");
-			double l0 = junction_length(m, m->r, j);
-			for (int i = 0; i < jb.nres[k]; i++) {
-				const fl_point *q = &jb.res[k][i];
-				printf("%.10g\t%d\t%d\t%d\t%.12g\t%s\t%.12g\t%.12g\t%.15g\t%.3g\n",
-				       p.p0, j, m->jv[2 * j], m->jv[2 * j + 1], l0,
-				       fl_dir_name(q->dir), q->l, q->f, q->W, q->fres);
-				allpoints++;
-				if (q->status != MESH_OK) {
-					badpoints++;
-					if (!(q->fres <= worst))
-						worst = q->fres;
-				}
-			}
+		if (jb.werr) {
+			errno = jb.werr;
+			cli_write_error("stdout");
 		}
+		for (int k = 0; k < count; k++) {
+			int st = jb.status[k];
+			if (st != -1 && st != MESH_OK && st != MESH_ENOCONV)
+				cli_die(EXIT_INPUT, "junction %d: %s", sel[k],
+				        st == MESH_ENOMEM ? "out of memory" : "sweep failed");
+		}
+		/* stopped: the whole curves after the first unfinished one */
+		for (int k = jb.out; k < count; k++)
+			if (jb.status[k] != -1 && complete(&jb, k))
+				write_curve(&jb, k);
+		written += jb.written;
+		asked += count;
+		badpoints += jb.badpoints;
+		allpoints += jb.rows;
+		if (!(jb.worst <= worst))
+			worst = jb.worst;
 		for (int k = 0; k < count; k++)
 			free(jb.res[k]);
 		free(jb.res);
@@ -366,15 +438,16 @@ int main(int argc, char **argv)
 	if (in != stdin)
 		fclose(in);
 	if (cli_stop) {
-		fflush(stdout);
-		cli_die(EXIT_INPUT, "interrupted: only finished curves were written");
+		printf("# %s interrupted by %s: %d of %d curves written%s, whole curves only\n",
+		       cli_name, cli_stop_name(), written, asked,
+		       nmesh > 1 ? " (of the meshes read so far)" : "");
+		cli_finish_status(EXIT_NOCONV, "interrupted by %s: wrote %d of %d curves, "
+		                  "whole curves only", cli_stop_name(), written, asked);
 	}
 	if (nmesh == 0)
 		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
-	if (badpoints) {
-		fflush(stdout);
-		cli_die(EXIT_NOCONV, "%d of %d points missed the force tolerance %g (worst %.3g)",
-		        badpoints, allpoints, o.fl.min.ftol, worst);
-	}
+	if (badpoints)
+		cli_finish_status(EXIT_NOCONV, "%d of %d points missed the force tolerance %g "
+		                  "(worst %.3g)", badpoints, allpoints, o.fl.min.ftol, worst);
 	cli_finish();
 }

@@ -35,8 +35,8 @@ static struct opts parse(int argc, char **argv)
 	int c;
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
 		switch (c) {
-		case 'p': o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
-		case 'k': o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case 'p': o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
+		case 'k': o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
 		case 'h': cli_help(help);
 		case 'V': cli_version();
 		default: cli_bad_option(argv, c);
@@ -57,6 +57,12 @@ int main(int argc, char **argv)
 {
 	cli_init("tis-hex", usage, argc, argv);
 	struct opts o = parse(argc, argv);
+	/* measured on 1e6 cells (bench/RESULTS.md, hostile sizes): 660 bytes
+	 * of memory and 122 bytes of output per cell */
+	char what[64];
+	double nc = (double)o.nx * o.ny;
+	snprintf(what, sizeof what, "%d x %d = %.0f cells", o.nx, o.ny, nc);
+	cli_size_check(what, 700 * nc, 125 * nc);
 	mesh *m;
 	mesh_error err;
 	if (lattice_honeycomb(o.nx, o.ny, &m, &err) != MESH_OK)

@@ -69,8 +69,8 @@ static struct opts parse(int argc, char **argv)
 		case 't': set_out(&o, OUT_TSV); break;
 		case 'C': set_out(&o, OUT_CELLS); break;
 		case 'J': set_out(&o, OUT_JUNCTIONS); break;
-		case 'p': o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
-		case 'k': o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case 'p': o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
+		case 'k': o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
 		case 'h': cli_help(help);
 		case 'V': cli_version();
 		default: cli_bad_option(argv, c);

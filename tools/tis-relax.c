@@ -65,8 +65,8 @@ static struct opts parse(int argc, char **argv)
 	int c;
 	while ((c = getopt_long(argc, argv, ":hq", lo, NULL)) != -1) {
 		switch (c) {
-		case 'p': o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
-		case 'k': o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case 'p': o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
+		case 'k': o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
 		case 'f': o.mo.ftol = cli_double_range("--ftol", optarg, 0, 1e6); break;
 		case 'n': o.mo.maxeval = cli_long("--maxeval", optarg, 1, 1000000000); break;
 		case 'a':
@@ -107,11 +107,15 @@ int main(int argc, char **argv)
 {
 	cli_init("tis-relax", usage, argc, argv);
 	struct opts o = parse(argc, argv);
+	cli_catch_signals();
+	o.mo.stop = &cli_stop;
 	FILE *f = cli_open(o.path);
 	long line = 0;
 	mesh *m;
 	int nmesh = 0, missed = 0;
-	while (cli_read_mesh(f, o.path, &line, &m)) {
+	/* a stop request ends the stream after the mesh in hand: it is
+	 * written, relaxed as far as it got, and marked */
+	while (!cli_stop && cli_read_mesh(f, o.path, &line, &m)) {
 		nmesh++;
 		if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
 		    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
@@ -129,6 +133,9 @@ int main(int argc, char **argv)
 		if (st == MESH_EINVAL)
 			cli_die(EXIT_INPUT, "%s: relaxation would invert a cell (no minimum "
 			        "at this topology)", cli_input_name(o.path));
+		if (!isfinite(rep.f) || !isfinite(rep.gnorm))
+			cli_die(EXIT_INPUT, "%s: the energy or force became non-finite (p0 %g, ka %g)",
+			        cli_input_name(o.path), p.p0, p.ka);
 		char which[32] = "";
 		if (nmesh > 1)
 			snprintf(which, sizeof which, "mesh %d: ", nmesh);
@@ -140,6 +147,20 @@ int main(int argc, char **argv)
 			        o.mo.polish && o.mo.algo != MIN_NEWTON && rep.npolish ? "+newton" : "",
 			        rep.niter, rep.npolish, rep.neval, rep.nhessvec, rep.npcsetup, rep.f0, rep.f,
 			        rep.gnorm, dt);
+		if (rep.stopped) {
+			char note[160];
+			snprintf(note, sizeof note, "interrupted by %s after %ld evaluations: max force "
+			         "%.3g, not relaxed to %g", cli_stop_name(), rep.neval + rep.nhessvec,
+			         rep.gnorm, o.mo.ftol);
+			cli_history(m);
+			cli_history_note(m, note);
+			cli_write_mesh(m);
+			mesh_free(m);
+			cli_finish_status(EXIT_NOCONV, "interrupted by %s: wrote %smesh %d relaxed to "
+			                  "max force %.3g, not %g", cli_stop_name(),
+			                  nmesh > 1 ? "meshes before it and " : "", nmesh, rep.gnorm,
+			                  o.mo.ftol);
+		}
 		if (st == MESH_ENOCONV) {
 			missed = 1;
 			double lmin = INFINITY;

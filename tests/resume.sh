@@ -1,0 +1,57 @@
+#!/bin/sh
+# tis-anneal resume: a run stopped by SIGTERM (or SIGINT) at any step, and
+# continued by the same command on the mesh it left, ends with the same
+# final mesh, bit for bit apart from history lines, as a run never
+# stopped; with noise (two noisy stages), T1s and the settling relax
+# stage.  The run is stopped again and again at different moments.
+. "$(dirname "$0")/lib.sh"
+
+plan 9
+
+tis-hex 6 6 --p0 3.65 >"$T/h.mesh" || exit 1
+P="--stage 0.8:100 --stage 0.1:60 --relax 20 --seed 5"
+tis-anneal $P "$T/h.mesh" >"$T/full.mesh" 2>"$T/full.err"
+ok "the uninterrupted run finishes" sh -c "grep -q ' T1s' '$T/full.mesh' && ! grep -q '^state' '$T/full.mesh'"
+
+# stop after $2 s with signal $1 (if it has not finished), continue from
+# what it left until a run finishes; $T/stops counts the stops
+chain() {
+	sig=$1 delay=$2
+	cp "$T/h.mesh" "$T/cur.mesh"
+	stops=0
+	while [ $stops -lt 30 ]; do
+		tis-anneal $P "$T/cur.mesh" >"$T/next.mesh" 2>"$T/next.err" &
+		pid=$!
+		sleep "$delay"
+		kill -"$sig" $pid 2>/dev/null
+		wait $pid
+		st=$?
+		mv "$T/next.mesh" "$T/cur.mesh"
+		[ $st -eq 0 ] && break
+		[ $st -eq 3 ] || { diag "exit $st"; cat "$T/next.err"; return 1; }
+		grep -q '^state dyn_run' "$T/cur.mesh" || { diag "no state"; return 1; }
+		stops=$((stops + 1))
+	done
+	echo $stops >"$T/stops"
+}
+
+same() { grep -v '^history' "$1" >"$T/a"; grep -v '^history' "$2" >"$T/b"; cmp -s "$T/a" "$T/b"; }
+
+chain TERM 0.3
+ok "SIGTERM every 0.3 s: stopped $(cat "$T/stops") times, ended" sh -c "[ \$(cat '$T/stops') -ge 2 ]"
+ok "... the same final mesh as the uninterrupted run" same "$T/full.mesh" "$T/cur.mesh"
+ok "... and no state lines left" sh -c "! grep -q '^state' '$T/cur.mesh'"
+chain INT 0.45
+ok "SIGINT every 0.45 s: stopped $(cat "$T/stops") times" sh -c "[ \$(cat '$T/stops') -ge 1 ]"
+ok "... the same final mesh" same "$T/full.mesh" "$T/cur.mesh"
+
+# a stopped mesh with other options is refused, not continued wrongly
+tis-anneal $P "$T/h.mesh" >"$T/part.mesh" 2>/dev/null &
+pid=$!; sleep 0.3; kill -TERM $pid; wait $pid
+fails_with 1 "continuing with another seed is refused" tis-anneal --stage 0.8:100 --stage 0.1:60 --relax 20 --seed 6 "$T/part.mesh"
+ok "... naming the options of the stopped run" grep -q 'seed 5' "$T/err"
+# the state travels through a program that only copies it
+tis-relax --maxeval 1 --quiet "$T/part.mesh" >/dev/null 2>&1
+ok "a mesh with state lines reads back through tis-info --check" sh -c "tis-info --check '$T/part.mesh' >/dev/null"
+
+done_testing
