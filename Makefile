@@ -99,6 +99,8 @@ bench: all
 	  echo "== $$b"; PATH="$(CURDIR)/bin:$$PATH" "$$b" || exit 1; done
 
 DEBS = libgsl-dev libnlopt-dev libcgal-dev g++ make
+# the sweeps (studies/): GNU parallel; the SLURM test: slurm-wlm
+SWEEPDEBS = parallel procps
 FIGDEBS = gnuplot-nox
 deps:
 	@./.ci/deps $(DEBS)
