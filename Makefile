@@ -100,7 +100,7 @@ bench: all
 
 DEBS = libgsl-dev libnlopt-dev libcgal-dev g++ make
 # the sweeps (studies/): GNU parallel; the SLURM test: slurm-wlm
-SWEEPDEBS = parallel procps
+SWEEPDEBS = parallel procps slurm-wlm
 FIGDEBS = gnuplot-nox
 deps:
 	@./.ci/deps $(DEBS)
