@@ -41,6 +41,8 @@ struct dyn {
 	int have_lprev;
 	int have_dprev;       /* jd holds the last step's vectors (T1s off) */
 	dyn_counts c;
+	dyn_t1_hook t1_hook;
+	void *t1_data;
 };
 
 
@@ -151,6 +153,35 @@ void dyn_counts_get(const dyn *d, dyn_counts *c)
 	*c = d->c;
 }
 
+void dyn_set_time(dyn *d, double t)
+{
+	d->c.t = t;
+}
+
+void dyn_set_t1_hook(dyn *d, dyn_t1_hook hook, void *data)
+{
+	d->t1_hook = hook;
+	d->t1_data = data;
+}
+
+int dyn_rng_get(const dyn *d, char *buf, size_t n)
+{
+	if (d->noise == NULL) {
+		if (n < 1)
+			return MESH_EDOM;
+		buf[0] = '\0';
+		return MESH_OK;
+	}
+	return ou_state_get(d->noise, buf, n);
+}
+
+int dyn_rng_set(dyn *d, const char *text)
+{
+	if (d->noise == NULL && (d->noise = ou_alloc(d->seed)) == NULL)
+		return MESH_ENOMEM;
+	return ou_state_set(d->noise, text);
+}
+
 double dyn_energy(dyn *d)
 {
 	return mesh_energy(d->m, d->m->r, &d->p, NULL, d->ws);
@@ -257,6 +288,7 @@ static int do_t1s(dyn *d, mesh_error *err)
 			return MESH_OK;
 		mesh_error e2;
 		int touched[5];
+		int lose[2] = { m->jc[2 * best], m->jc[2 * best + 1] };
 		int st = mesh_t1_touch(m, best, d->o.t1_new, touched, &e2);
 		if (st == MESH_ENOMEM)
 			return mesh_error_set(err, 0, st, "out of memory");
@@ -267,6 +299,8 @@ static int do_t1s(dyn *d, mesh_error *err)
 			continue;
 		}
 		d->c.nt1++;
+		if (d->t1_hook)
+			d->t1_hook(d->t1_data, d, best, lose, m->jc + 2 * best, sqrt(lbest));
 		/* a and b moved (further than disp allows for): the junctions at
 		 * them are candidates now, with no shrink history; no other
 		 * junction changed */

@@ -48,6 +48,7 @@
 #define TIS_DYNAMICS_H
 
 #include <signal.h>
+#include <stddef.h>
 
 #include "geom.h"
 #include "mesh.h"
@@ -131,6 +132,24 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
             dyn_observer obs, void *data, mesh_error *err);
 
 void dyn_counts_get(const dyn *d, dyn_counts *c);
+
+/* Set the time (a run continued from a stopped one starts where that one
+ * stopped, so that stage ends fall on the same steps). */
+void dyn_set_time(dyn *d, double t);
+
+/* Called after every T1 (the time is dyn_counts' t, the start of the
+ * step): junction j, the cells that lost it and the two that gained it,
+ * its length just before.  NULL: none. */
+typedef void (*dyn_t1_hook)(void *data, const dyn *d, int j, const int lose[2],
+                            const int gain[2], double lbefore);
+void dyn_set_t1_hook(dyn *d, dyn_t1_hook hook, void *data);
+
+/* The noise generator's state as ou_state_get gives it, "" if none has
+ * been made yet; and its restoration (making the generator), so that a
+ * continued run draws the numbers an uninterrupted one would have.
+ * MESH_OK, MESH_EDOM (n too small), MESH_EINVAL, MESH_ENOMEM. */
+int dyn_rng_get(const dyn *d, char *buf, size_t n);
+int dyn_rng_set(dyn *d, const char *text);
 
 /* W at the mesh's current coordinates (no gradient). */
 double dyn_energy(dyn *d);

@@ -181,6 +181,18 @@ void cli_history(mesh *m)
 		cli_die(EXIT_INPUT, "out of memory");
 }
 
+void cli_history_note(mesh *m, const char *note)
+{
+	char *h = m->hist[m->nhist - 1];
+	size_t n = strlen(h) + strlen(note) + 4;
+	char *s = realloc(h, n);
+	if (s == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	strcat(s, " # ");
+	strcat(s, note);
+	m->hist[m->nhist - 1] = s;
+}
+
 void cli_finish(void)
 {
 	if (fflush(stdout) != 0 || ferror(stdout) || fclose(stdout) != 0)

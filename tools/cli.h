@@ -55,6 +55,10 @@ void cli_write_mesh(const mesh *m);
  * of memory. */
 void cli_history(mesh *m);
 
+/* Append a shell comment (" # note") to the last history line, the one
+ * cli_history added: how the run ended.  Exit 1 if out of memory. */
+void cli_history_note(mesh *m, const char *note);
+
 /* Begin a TSV table on f: "# " lines of provenance (the history of m, if
  * m is not NULL, then this program's command line), then the plain column
  * names cols (tab-separated, no '#'), the header pandas (comment='#') and

@@ -1,0 +1,421 @@
+/* active.c - active junction runs: options, start state, the Euler scheme
+ * (on dynamics.c) with its events; the BDF scheme is in bdf.c. */
+#include "active_int.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "noise.h"
+
+void act_opts_init(act_opts *o)
+{
+	*o = (act_opts){ .scheme = ACT_BDF, .tau = 1, .gamma0 = 0, .sigma = 0,
+			 .rtol = 1e-6, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
+			 .t1_new = 1e-3, .l_collapse = 1e-3 };
+}
+
+const char *act_end_name(act_end e)
+{
+	switch (e) {
+	case ACT_END_TIME: return "time";
+	case ACT_END_COLLAPSE: return "collapse";
+	case ACT_END_STOP: return "interrupted";
+	case ACT_END_NONFINITE: return "nonfinite";
+	}
+	return "?";
+}
+
+double act_jvec(const mesh *m, const double *r, int j, double d[2])
+{
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+	d[0] = r[2 * b] - r[2 * a] + m->jimg[2 * j];
+	d[1] = r[2 * b + 1] - r[2 * a + 1] + m->jimg[2 * j + 1];
+	return sqrt(d[0] * d[0] + d[1] * d[1]);
+}
+
+static int check_opts(const act_opts *o, mesh_error *err)
+{
+	if (!(o->tau > 0 && isfinite(o->tau)))
+		return mesh_error_set(err, 0, MESH_EDOM, "tau must be positive and finite");
+	if (!isfinite(o->gamma0))
+		return mesh_error_set(err, 0, MESH_EDOM, "gamma0 must be finite");
+	if (!(o->sigma >= 0 && isfinite(o->sigma)))
+		return mesh_error_set(err, 0, MESH_EDOM, "sigma must be non-negative");
+	if (!(o->l_collapse > 0 && isfinite(o->l_collapse)))
+		return mesh_error_set(err, 0, MESH_EDOM, "the collapse length must be positive");
+	if (!(o->t1_length >= 0 && isfinite(o->t1_length)) ||
+	    (o->t1_length > 0 && !(o->t1_new > 0 && o->t1_new < o->t1_length)))
+		return mesh_error_set(err, 0, MESH_EDOM, "bad T1 lengths (0 < new < threshold)");
+	if (o->scheme == ACT_BDF) {
+		if (o->sigma > 0)
+			return mesh_error_set(err, 0, MESH_EDOM, "the bdf scheme has no noise; use euler for sigma > 0");
+		if (!(o->rtol >= 1e-14 && o->rtol <= 0.1))
+			return mesh_error_set(err, 0, MESH_EDOM, "rtol must be in [1e-14, 0.1]");
+	} else if (!(o->dt_max > 0 && isfinite(o->dt_max)) || !(o->dr_max > 0 && isfinite(o->dr_max))) {
+		return mesh_error_set(err, 0, MESH_EDOM, "time step and displacement limits must be positive");
+	}
+	return MESH_OK;
+}
+
+static void euler_t1(void *data, const dyn *d, int j, const int lose[2], const int gain[2],
+                     double lbefore)
+{
+	act *a = data;
+	dyn_counts c;
+	dyn_counts_get(d, &c);
+	if (a->hook)
+		a->hook(a->hook_data, c.t, j, lose, gain, lbefore);
+}
+
+int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *active,
+              double t0, unsigned long seed, act **out, mesh_error *err)
+{
+	*out = NULL;
+	int st = check_opts(o, err);
+	if (st != MESH_OK)
+		return st;
+	if (!isfinite(t0))
+		return mesh_error_set(err, 0, MESH_EDOM, "the start time must be finite");
+	act *a = calloc(1, sizeof *a);
+	size_t nj = m->nj ? (size_t)m->nj : 1;
+	if (a == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	a->m = m;
+	a->p = *p;
+	a->o = *o;
+	a->t = a->tprev = t0;
+	a->c.jcollapse = -1;
+	a->active = malloc(nj);
+	a->aj = malloc(nj * sizeof *a->aj);
+	a->row_r = malloc(2 * (size_t)m->nv * sizeof *a->row_r);
+	a->row_grad = malloc(2 * (size_t)m->nv * sizeof *a->row_grad);
+	a->row_dg = malloc(nj * sizeof *a->row_dg);
+	a->row_ws = energy_ws_alloc(m);
+	if (!a->active || !a->aj || !a->row_r || !a->row_grad || !a->row_dg || !a->row_ws ||
+	    mesh_tension_alloc(m) != MESH_OK)
+		goto nomem;
+	for (int j = 0; j < m->nj; j++) {
+		a->active[j] = active ? active[j] != 0 : 1;
+		if (a->active[j])
+			a->aj[a->na++] = j;
+		else
+			m->dg[j] = 0;
+	}
+	if (o->scheme == ACT_EULER) {
+		dyn_opts d;
+		dyn_opts_init(&d);
+		d.mode = DYN_FEEDBACK;
+		d.dt_max = o->dt_max;
+		d.dr_max = o->dr_max;
+		d.t1_length = o->t1_length;
+		d.t1_new = o->t1_new;
+		d.tau = o->tau;
+		d.sigma = o->sigma;
+		d.gamma0 = o->gamma0;
+		/* the collapse of an active junction is found by the observer;
+		 * this only keeps a passive one from passing through zero */
+		d.l_stop = 1e-12;
+		a->snap_r = malloc(2 * (size_t)m->nv * sizeof *a->snap_r);
+		a->snap_dg = malloc(nj * sizeof *a->snap_dg);
+		a->jprev = malloc(2 * nj * sizeof *a->jprev);
+		if (!a->snap_r || !a->snap_dg || !a->jprev)
+			goto nomem;
+		if ((st = dyn_alloc(m, p, &d, seed, &a->d, err)) != MESH_OK) {
+			act_free(a);
+			return st;
+		}
+		if (active && dyn_set_active(a->d, a->active) != MESH_OK)
+			goto nomem;
+		dyn_set_time(a->d, t0);
+		dyn_set_t1_hook(a->d, euler_t1, a);
+	} else if ((st = bdf_alloc(a, err)) != MESH_OK) {
+		act_free(a);
+		return st;
+	}
+	*out = a;
+	return MESH_OK;
+nomem:
+	act_free(a);
+	return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+}
+
+void act_free(act *a)
+{
+	if (a == NULL)
+		return;
+	dyn_free(a->d);
+	bdf_free(a->b);
+	free(a->active);
+	free(a->aj);
+	free(a->snap_r);
+	free(a->snap_dg);
+	free(a->jprev);
+	free(a->row_r);
+	free(a->row_grad);
+	free(a->row_dg);
+	energy_ws_free(a->row_ws);
+	free(a);
+}
+
+void act_set_t1_hook(act *a, act_t1_hook hook, void *data)
+{
+	a->hook = hook;
+	a->hook_data = data;
+}
+
+void act_counts_get(const act *a, act_counts *c)
+{
+	*c = a->c;
+	c->t = a->t;
+}
+
+double act_time(const act *a)
+{
+	return a->t;
+}
+
+double act_time_prev(const act *a)
+{
+	return a->tprev;
+}
+
+int act_sample(act *a, double t, double *r, double *dg)
+{
+	if (a->b)
+		return bdf_sample(a, t, r, dg);
+	const mesh *m = a->m;
+	memcpy(r, m->r, 2 * (size_t)m->nv * sizeof *r);
+	memcpy(dg, m->dg, (size_t)m->nj * sizeof *dg);
+	return MESH_OK;
+}
+
+int act_row_at(act *a, double t, int j, act_row *row)
+{
+	const mesh *m = a->m;
+	int st = act_sample(a, t, a->row_r, a->row_dg);
+	if (st != MESH_OK)
+		return st;
+	const double *r = a->row_r, *dg = a->row_dg;
+	*row = (act_row){ .t = t, .l = NAN, .dg = NAN, .ldot = NAN, .nt1 = a->c.nt1 };
+	row->W = mesh_energy_tension(m, r, &a->p, dg, a->row_grad, a->row_ws);
+	if (j >= 0) {
+		double d[2];
+		int va = m->jv[2 * j], vb = m->jv[2 * j + 1];
+		const double *g = a->row_grad;   /* the force is -g */
+		row->l = act_jvec(m, r, j, d);
+		row->dg = dg[j];
+		row->ldot = -(d[0] * (g[2 * vb] - g[2 * va]) + d[1] * (g[2 * vb + 1] - g[2 * va + 1])) / row->l;
+	}
+	int nhex = 0;
+	for (int k = 0; k < m->nc; k++)
+		nhex += m->coff[k + 1] - m->coff[k] == 6;
+	row->f6 = (double)nhex / m->nc;
+	double s = 0, s2 = 0;
+	for (int k = 0; k < a->na; k++)
+		s += dg[a->aj[k]];
+	double mean = a->na ? s / a->na : 0;
+	for (int k = 0; k < a->na; k++)
+		s2 += (dg[a->aj[k]] - mean) * (dg[a->aj[k]] - mean);
+	row->dg_mean = mean;
+	row->dg_sd = a->na > 1 ? sqrt(s2 / (a->na - 1)) : 0;
+	double d[2];
+	row->lmin = INFINITY;
+	for (int k = 0; k < m->nj; k++) {
+		double l = act_jvec(m, r, k, d);
+		row->lmin = l < row->lmin ? l : row->lmin;
+	}
+	return MESH_OK;
+}
+
+int act_rng_get(const act *a, char *buf, size_t n)
+{
+	if (a->d)
+		return dyn_rng_get(a->d, buf, n);
+	if (n < 1)
+		return MESH_EDOM;
+	buf[0] = '\0';
+	return MESH_OK;
+}
+
+int act_rng_set(act *a, const char *text)
+{
+	if (a->d == NULL || text[0] == '\0')
+		return MESH_OK;
+	return dyn_rng_set(a->d, text);
+}
+
+/* ---- Euler ---- */
+
+static int state_finite(const act *a)
+{
+	const mesh *m = a->m;
+	for (int i = 0; i < 2 * m->nv; i++)
+		if (!isfinite(m->r[i]))
+			return 0;
+	for (int k = 0; k < a->na; k++)
+		if (!isfinite(m->dg[a->aj[k]]))
+			return 0;
+	return 1;
+}
+
+static void snapshot(act *a)
+{
+	const mesh *m = a->m;
+	memcpy(a->snap_r, m->r, 2 * (size_t)m->nv * sizeof *m->r);
+	for (int k = 0; k < a->na; k++)
+		a->snap_dg[k] = m->dg[a->aj[k]];
+	a->snap_t = a->t;
+	a->snap_nt1 = a->c.nt1;
+}
+
+/* Back to the last step's state; 0 if a T1 came in between (then the
+ * topology no longer fits the saved coordinates). */
+static int restore(act *a)
+{
+	mesh *m = a->m;
+	if (a->snap_nt1 != a->c.nt1)
+		return 0;
+	memcpy(m->r, a->snap_r, 2 * (size_t)m->nv * sizeof *m->r);
+	for (int k = 0; k < a->na; k++)
+		m->dg[a->aj[k]] = a->snap_dg[k];
+	a->t = a->snap_t;
+	return 1;
+}
+
+/* Move every vertex back into the box when one has left it.  The written
+ * mesh holds wrapped coordinates, so a run that keeps them wrapped all
+ * along computes what a run continued from that mesh computes, bit for
+ * bit. */
+static void keep_wrapped(mesh *m)
+{
+	for (int v = 0; v < m->nv; v++) {
+		double x = m->r[2 * v], y = m->r[2 * v + 1];
+		if (!(x >= 0 && x < m->lx && y >= 0 && y < m->ly)) {
+			mesh_wrap(m);
+			return;
+		}
+	}
+}
+
+static int euler_obs(dyn *d, void *data)
+{
+	act *a = data;
+	mesh *m = a->m;
+	dyn_counts c;
+	dyn_counts_get(d, &c);
+	a->tprev = a->t;
+	a->t = c.t;
+	a->c.nstep++;
+	a->c.nfev++;
+	a->c.nt1 = c.nt1;
+	a->c.nt1_refused = c.nt1_refused;
+	if (a->o.t1_length == 0) {
+		/* the collapse event: the first step at which an active junction
+		 * is shorter than l_collapse; if that step carried it through
+		 * zero (turned over), the state before the step is the end */
+		for (int k = 0; k < a->na; k++) {
+			double v[2];
+			double l = act_jvec(m, m->r, a->aj[k], v);
+			int over = a->have_prev && v[0] * a->jprev[2 * k] + v[1] * a->jprev[2 * k + 1] <= 0;
+			if (over || !(l >= a->o.l_collapse)) {
+				if ((over || !(l > 0)) && a->have_prev)
+					restore(a);
+				a->c.jcollapse = a->aj[k];
+				a->why = ACT_END_COLLAPSE;
+				return 1;
+			}
+			a->jprev[2 * k] = v[0];
+			a->jprev[2 * k + 1] = v[1];
+		}
+	}
+	keep_wrapped(m);
+	snapshot(a);
+	a->have_prev = 1;
+	if (a->obs && a->obs(a, a->obs_data)) {
+		a->why = ACT_END_STOP;
+		return 1;
+	}
+	return 0;
+}
+
+static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
+                     mesh_error *err)
+{
+	mesh *m = a->m;
+	a->why = ACT_END_TIME;
+	if (!a->have_prev) {
+		keep_wrapped(m);
+		snapshot(a);
+		for (int k = 0; k < a->na; k++)
+			act_jvec(m, m->r, a->aj[k], a->jprev + 2 * k);
+		a->have_prev = 1;
+	}
+	mesh_error e2;
+	int st = dyn_run(a->d, t_end, stop, euler_obs, a, &e2);
+	if (st == MESH_ENOMEM)
+		return mesh_error_set(err, 0, st, "out of memory");
+	if (st != MESH_OK) {
+		/* non-finite forces (the state before the step is finite in r,
+		 * but its tensions may not be) or a passive junction collapsed */
+		if (state_finite(a) && strstr(e2.msg, "collapsed")) {
+			a->why = ACT_END_COLLAPSE;
+		} else {
+			restore(a);
+			a->why = ACT_END_NONFINITE;
+			mesh_error_set(err, 0, MESH_EDOM, "%s", e2.msg);
+		}
+	} else if (a->why == ACT_END_TIME && stop && *stop) {
+		a->why = ACT_END_STOP;
+	}
+	*why = a->why;
+	return MESH_OK;
+}
+
+int act_run(act *a, double t_end, volatile sig_atomic_t *stop, act_observer obs,
+            void *data, act_end *why, mesh_error *err)
+{
+	a->obs = obs;
+	a->obs_data = data;
+	err->msg[0] = '\0';
+	if (a->d)
+		return euler_run(a, t_end, stop, why, err);
+	return bdf_run(a, t_end, stop, why, err);
+}
+
+/* ---- start state ---- */
+
+int act_perturb(mesh *m, const unsigned char *active, double eps, unsigned long seed,
+                char *rng_after, size_t n)
+{
+	if (mesh_tension_alloc(m) != MESH_OK)
+		return MESH_ENOMEM;
+	ou_noise *g = ou_alloc(seed);
+	if (g == NULL)
+		return MESH_ENOMEM;
+	if (eps > 0) {
+		for (int i = 0; i < 2 * m->nv; i++)
+			m->r[i] += eps * ou_gauss(g);
+		for (int j = 0; j < m->nj; j++)
+			if (!active || active[j])
+				m->dg[j] += eps * ou_gauss(g);
+		mesh_wrap(m);
+	}
+	int st = rng_after ? ou_state_get(g, rng_after, n) : MESH_OK;
+	ou_free(g);
+	return st;
+}
+
+double act_rest_force(const mesh *m, const model *p)
+{
+	energy_ws *ws = energy_ws_alloc(m);
+	double *g = malloc(2 * (size_t)m->nv * sizeof *g);
+	double f = NAN;
+	if (ws && g) {
+		mesh_energy(m, m->r, p, g, ws);
+		f = grad_max_norm(m->nv, g);
+	}
+	energy_ws_free(ws);
+	free(g);
+	return f;
+}

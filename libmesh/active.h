@@ -1,0 +1,153 @@
+/* active.h - active junctions (paper eqs. 1-2): one, several or every
+ * junction of a passive tissue carries a tension dg_j that follows
+ *
+ *   dr_i/dt   = -grad_i W - sum_j dg_j grad_i l_j
+ *   d(dg_j)/dt = -dg_j/tau - (gamma0 + dg_j) (dl_j/dt)/l_j
+ *               [+ sqrt(2 sigma^2/tau) xi_j]
+ *
+ * integrated by one of two schemes:
+ *
+ *   ACT_EULER  the paper's explicit Euler (dynamics.h, DYN_FEEDBACK):
+ *              dt <= dt_max, no vertex moving more than dr_max per step,
+ *              the noise stepped exactly with every step.  Kept exactly,
+ *              for reproduction.
+ *   ACT_BDF    SUNDIALS CVODE, variable-order BDF with error control
+ *              (rtol on every component, atol = ACT_ATOL_FACTOR rtol
+ *              absolute), Newton iterations solved by GMRES preconditioned
+ *              by the block elimination of I - gamma J: the sparse Cholesky
+ *              of I + gamma K (K = H + sum_j dg_j grad^2 l_j, the vertex
+ *              block of -J) and the Schur complement of the tension block
+ *              (bdf.c).  Vertex coordinates are integrated as displacements
+ *              from the start, so that rtol means the same everywhere in
+ *              the box.  No noise (sigma must be 0).
+ *
+ * Events are found as roots of the trajectory, not overshot: with T1s off,
+ * the run ends when an active junction reaches l_collapse (ACT_COLLAPSE);
+ * with T1s on (t1_length > 0) a junction reaching t1_length is T1'd.  Euler
+ * locates them to its step (the step at which the length is first below
+ * the threshold), BDF to the root of its interpolant.
+ *
+ * The time lives in the integrator (act_time); a run may start at any t0,
+ * so that a run stopped and continued (the mesh's state lines, tis-mesh(5))
+ * goes on where it stopped.
+ */
+#ifndef TIS_ACTIVE_H
+#define TIS_ACTIVE_H
+
+#include <signal.h>
+
+#include "geom.h"
+#include "mesh.h"
+
+typedef enum { ACT_EULER, ACT_BDF } act_scheme;
+
+/* BDF absolute tolerance per unit of rtol (lengths in sqrt(A0)). */
+#define ACT_ATOL_FACTOR 1e-2
+
+typedef struct {
+	act_scheme scheme;  /* ACT_BDF */
+	double tau;         /* tau_m = 1/rate (1) */
+	double gamma0;      /* ambient tension (0) */
+	double sigma;       /* noise: long-time s.d. of dg (0; Euler only) */
+	double rtol;        /* BDF relative tolerance (1e-6) */
+	double dt_max;      /* Euler: longest step (1e-3) */
+	double dr_max;      /* Euler: largest vertex move per step (1e-3) */
+	double t1_length;   /* T1 threshold (0: topology fixed) */
+	double t1_new;      /* length of a junction made by a T1 (1e-3) */
+	double l_collapse;  /* T1s off: stop when an active junction is this
+	                       short (1e-3) */
+} act_opts;
+
+void act_opts_init(act_opts *o);
+
+/* Why act_run returned. */
+typedef enum {
+	ACT_END_TIME,      /* reached t_end */
+	ACT_END_COLLAPSE,  /* an active junction reached l_collapse (T1s off) */
+	ACT_END_STOP,      /* *stop or the observer asked to stop */
+	ACT_END_NONFINITE, /* the state went non-finite or the solver failed;
+	                      the mesh holds the last valid state */
+} act_end;
+
+const char *act_end_name(act_end e);  /* "time", "collapse", ... */
+
+typedef struct {
+	double t;          /* time reached */
+	long nstep;        /* steps */
+	long nfev;         /* right-hand-side (force) evaluations */
+	long nsetup;       /* BDF: preconditioner factorizations */
+	long nlin;         /* BDF: GMRES iterations */
+	long nt1;          /* T1s done */
+	long nt1_refused;  /* T1s not allowed */
+	int jcollapse;     /* ACT_END_COLLAPSE: the junction, else -1 */
+} act_counts;
+
+typedef struct act act;
+
+/* An integrator for m (updated in place, not owned) at model p, starting
+ * at time t0 from the mesh's coordinates and tensions.  active: nj flags
+ * (copied), NULL for every junction.  seed: the noise stream (Euler with
+ * sigma > 0).  MESH_ENOMEM; MESH_EDOM for bad options (BDF with noise, a
+ * non-positive tau, ...). */
+int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *active,
+              double t0, unsigned long seed, act **out, mesh_error *err);
+void act_free(act *a);
+
+/* Called after every step; return nonzero to end the run there. */
+typedef int (*act_observer)(act *a, void *data);
+
+/* Called for every T1 (after it is done): time, junction, the two cells
+ * that lost it, the two that gained it, its length just before. */
+typedef void (*act_t1_hook)(void *data, double t, int j, const int lose[2],
+                            const int gain[2], double lbefore);
+void act_set_t1_hook(act *a, act_t1_hook hook, void *data);
+
+/* Integrate to t_end (the last step ends exactly there) or an event.
+ * *why says how it ended.  On return the mesh holds the state at act_time
+ * (for ACT_END_NONFINITE: the last finite one).  MESH_OK (whatever *why),
+ * MESH_ENOMEM. */
+int act_run(act *a, double t_end, volatile sig_atomic_t *stop, act_observer obs,
+            void *data, act_end *why, mesh_error *err);
+
+void act_counts_get(const act *a, act_counts *c);
+double act_time(const act *a);
+/* The time of the step before the last one (samples between it and
+ * act_time can be asked for with act_sample). */
+double act_time_prev(const act *a);
+
+/* The state at time t in [act_time_prev, act_time]: coordinates (2 nv) and
+ * tensions (nj, all junctions) into r and dg.  BDF interpolates with its
+ * own polynomial; Euler has only the step ends and gives act_time's state
+ * (or act_time_prev's when t is at it).  The trajectory is not changed. */
+int act_sample(act *a, double t, double *r, double *dg);
+
+/* What a trace row shows, at time t in [act_time_prev, act_time] (as for
+ * act_sample): junction j's length, tension and dl/dt (j < 0: not
+ * filled), W, the hexagon fraction, the mean and standard deviation of
+ * the active tensions, the shortest junction and the T1 count. */
+typedef struct {
+	double t, l, dg, ldot, W, f6, dg_mean, dg_sd, lmin;
+	long nt1;
+} act_row;
+int act_row_at(act *a, double t, int j, act_row *row);
+
+/* The noise generator's state (ou_state_get), "" when no noise has been
+ * drawn; restore it before the first step of a continued run.  MESH_OK,
+ * MESH_EDOM (buffer too small), MESH_EINVAL, MESH_ENOMEM. */
+int act_rng_get(const act *a, char *buf, size_t n);
+int act_rng_set(act *a, const char *text);
+
+/* Perturb the start state: every vertex coordinate and the tension of
+ * every junction with active[j] != 0 (all when NULL) by eps times a
+ * standard normal number from a generator seeded with seed, coordinates
+ * first; *rng_after gets the generator's state afterwards (text,
+ * OU_STATE_LEN), so that a noisy run can continue the stream.
+ * MESH_ENOMEM. */
+int act_perturb(mesh *m, const unsigned char *active, double eps, unsigned long seed,
+                char *rng_after, size_t n);
+
+/* Largest vertex force |grad_i W| of the passive tissue: the check that a
+ * run assumed to start at rest does. */
+double act_rest_force(const mesh *m, const model *p);
+
+#endif

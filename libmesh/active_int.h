@@ -1,0 +1,48 @@
+/* active_int.h - the parts of active.c that bdf.c shares (not installed,
+ * not an API). */
+#ifndef TIS_ACTIVE_INT_H
+#define TIS_ACTIVE_INT_H
+
+#include "active.h"
+#include "dynamics.h"
+
+typedef struct bdf bdf;
+
+struct act {
+	mesh *m;
+	model p;
+	act_opts o;
+	unsigned char *active;  /* nj flags */
+	int *aj;                /* the na active junctions */
+	int na;
+	double t, tprev;
+	act_counts c;
+	act_t1_hook hook;
+	void *hook_data;
+	/* Euler */
+	dyn *d;
+	double *snap_r, *snap_dg;  /* the last step's state (non-finite ends) */
+	double *jprev;          /* 2 na: active junction vectors, last step */
+	double snap_t;
+	long snap_nt1;
+	int have_prev;
+	act_observer obs;
+	void *obs_data;
+	act_end why;
+	double *row_r, *row_dg, *row_grad;  /* act_row_at scratch */
+	energy_ws *row_ws;
+	/* BDF */
+	bdf *b;
+};
+
+int bdf_alloc(act *a, mesh_error *err);
+void bdf_free(bdf *b);
+int bdf_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
+            mesh_error *err);
+int bdf_sample(act *a, double t, double *r, double *dg);
+
+/* Length of junction j at coordinates r (minimum image through m->jimg)
+ * and its vector into d. */
+double act_jvec(const mesh *m, const double *r, int j, double d[2]);
+
+#endif

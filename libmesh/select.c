@@ -1,0 +1,126 @@
+/* select.c - junction selections. */
+#include "select.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+static int one(int j, int **sel, int *n, mesh_error *err)
+{
+	if ((*sel = malloc(sizeof **sel)) == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	(*sel)[0] = j;
+	*n = 1;
+	return MESH_OK;
+}
+
+static int pair(const mesh *m, long a, long b, const char *what, long line, int *j, mesh_error *err)
+{
+	if (a < 0 || b < 0 || a >= m->nv || b >= m->nv)
+		return mesh_error_set(err, line, MESH_EINVAL, "%s %ld %ld: the mesh has %d vertices",
+				      what, a, b, m->nv);
+	if ((*j = mesh_junction_find(m, (int)a, (int)b)) < 0)
+		return mesh_error_set(err, line, MESH_EINVAL, "%s %ld %ld: no junction joins these vertices",
+				      what, a, b);
+	return MESH_OK;
+}
+
+int junction_select_pair(const mesh *m, long a, long b, int **sel, int *n, mesh_error *err)
+{
+	int j = -1;
+	*sel = NULL;
+	int st = pair(m, a, b, "--junction", 0, &j, err);
+	return st != MESH_OK ? st : one(j, sel, n, err);
+}
+
+int junction_select_index(const mesh *m, long k, int **sel, int *n, mesh_error *err)
+{
+	*sel = NULL;
+	if (k < 0 || k >= m->nj)
+		return mesh_error_set(err, 0, MESH_EINVAL, "--index %ld: the mesh has %d junctions", k, m->nj);
+	return one((int)k, sel, n, err);
+}
+
+int junction_select_random(const mesh *m, long k, unsigned long seed, int **sel, int *n,
+                           mesh_error *err)
+{
+	*sel = NULL;
+	if (k < 1 || k > m->nj)
+		return mesh_error_set(err, 0, MESH_EINVAL, "--random %ld: the mesh has %d junctions", k, m->nj);
+	int *all = malloc((size_t)m->nj * sizeof *all);
+	int *s = malloc((size_t)k * sizeof *s);
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	int st = MESH_OK;
+	if (all && s && r) {
+		for (int j = 0; j < m->nj; j++)
+			all[j] = j;
+		gsl_rng_set(r, seed);
+		/* gsl_ran_choose keeps the input order: ascending indices */
+		gsl_ran_choose(r, s, (size_t)k, all, (size_t)m->nj, sizeof *all);
+		*sel = s;
+		*n = (int)k;
+		s = NULL;
+	} else {
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
+	if (r)
+		gsl_rng_free(r);
+	free(all);
+	free(s);
+	return st;
+}
+
+int junction_select_file(const mesh *m, const char *path, int **sel, int *n, mesh_error *err)
+{
+	*sel = NULL;
+	*n = 0;
+	FILE *f = fopen(path, "r");
+	if (f == NULL)
+		return mesh_error_set(err, 0, MESH_EINVAL, "%s: %s", path, strerror(errno));
+	char buf[256];
+	long line = 0;
+	int cap = 0, st = MESH_OK;
+	while (st == MESH_OK && fgets(buf, sizeof buf, f)) {
+		line++;
+		char *p = buf + strspn(buf, " \t");
+		if (*p == '#' || *p == '\n' || *p == '\0')
+			continue;
+		long a, b;
+		char extra;
+		int j = -1;
+		int k = sscanf(p, "%ld %ld %c", &a, &b, &extra);
+		if (k == 2) {
+			st = pair(m, a, b, path, line, &j, err);
+		} else if (k == 1 && sscanf(p, "%ld %c", &a, &extra) == 1) {
+			if (a < 0 || a >= m->nj)
+				st = mesh_error_set(err, line, MESH_EINVAL, "%s:%ld: junction %ld: the mesh has %d junctions",
+						    path, line, a, m->nj);
+			j = (int)a;
+		} else {
+			st = mesh_error_set(err, line, MESH_EINVAL, "%s:%ld: expected 'A B' or 'K'", path, line);
+		}
+		if (st != MESH_OK)
+			break;
+		if (*n == cap) {
+			cap = cap ? 2 * cap : 16;
+			int *s = realloc(*sel, (size_t)cap * sizeof *s);
+			if (s == NULL) {
+				st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+				break;
+			}
+			*sel = s;
+		}
+		(*sel)[(*n)++] = j;
+	}
+	fclose(f);
+	if (st == MESH_OK && *n == 0)
+		st = mesh_error_set(err, 0, MESH_EINVAL, "%s: no junctions listed", path);
+	if (st != MESH_OK) {
+		free(*sel);
+		*sel = NULL;
+	}
+	return st;
+}

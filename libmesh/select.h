@@ -1,0 +1,23 @@
+/* select.h - choosing junctions by vertex pair, index, at random or from
+ * a file, for the programs that work on some junctions of a tissue. */
+#ifndef TIS_SELECT_H
+#define TIS_SELECT_H
+
+#include "mesh.h"
+
+/* Each fills *sel (malloc'd, the caller frees it) with *n junction
+ * indices; MESH_EINVAL with a message naming the option when the mesh has
+ * no such junction, MESH_ENOMEM.
+ *   pair:   the junction joining vertices a and b ("--junction A B")
+ *   index:  junction k ("--index K")
+ *   random: k distinct junctions, ascending, drawn with GSL's MT19937
+ *           seeded with seed (gsl_ran_choose)
+ *   file:   one junction per line, "A B" (vertices) or "K" (an index);
+ *           blank lines and lines starting with '#' are skipped */
+int junction_select_pair(const mesh *m, long a, long b, int **sel, int *n, mesh_error *err);
+int junction_select_index(const mesh *m, long k, int **sel, int *n, mesh_error *err);
+int junction_select_random(const mesh *m, long k, unsigned long seed, int **sel, int *n,
+                           mesh_error *err);
+int junction_select_file(const mesh *m, const char *path, int **sel, int *n, mesh_error *err);
+
+#endif

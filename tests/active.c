@@ -1,0 +1,357 @@
+/* Active junctions (active.h): the BDF scheme at a tight tolerance against
+ * the paper's Euler at halved steps (first-order convergence to it);
+ * growth rate and frequency of l - l0 just below and above the Hopf
+ * threshold against the leading eigenvalue of the dense Jacobian J of
+ * DESIGN.md (built here from mesh_hessian, eigenvalues by GSL's
+ * nonsymmetric solver: independent of the integrators); the collapse
+ * exponent l ~ (t_c - t)^beta at five parameter points; and the BDF
+ * Jacobian's tension row against a finite difference of the right-hand
+ * side (through the linearized growth it drives). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_complex_math.h>
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_matrix.h>
+
+#include "active.h"
+#include "geom.h"
+#include "hessian.h"
+#include "lattice.h"
+#include "tap.h"
+
+#define TWO_PI_HALF 3.14159265358979323846
+
+static mesh *honeycomb(int n, double p0)
+{
+	mesh *m;
+	mesh_error err;
+	if (lattice_honeycomb(n, n, &m, &err) != MESH_OK)
+		return NULL;
+	mesh_param_set(m, "p0", p0);
+	mesh_param_set(m, "ka", 100);
+	return m;
+}
+
+/* Leading eigenvalue (largest real part, translations excluded) of J for
+ * junction j at rate 1/tau and gamma0; its eigenvector into v (n + 1
+ * values: the real part) unless v is NULL. */
+static gsl_complex leading(const mesh *m, const model *p, int j, double tau, double g0,
+                           double *v)
+{
+	int n = 2 * m->nv, N = n + 1;
+	double *h = malloc((size_t)n * n * sizeof *h);
+	mesh_hessian(m, m->r, p, h);
+	double g[4 * 1], d[2];
+	int va = m->jv[2 * j], vb = m->jv[2 * j + 1];
+	double l0 = junction_vec(m, m->r, j, d);
+	g[0] = -d[0] / l0; g[1] = -d[1] / l0; g[2] = d[0] / l0; g[3] = d[1] / l0;
+	int gi[4] = { 2 * va, 2 * va + 1, 2 * vb, 2 * vb + 1 };
+	gsl_matrix *J = gsl_matrix_calloc(N, N);
+	for (int r = 0; r < n; r++)
+		for (int c = 0; c < n; c++)
+			gsl_matrix_set(J, r, c, -h[(size_t)r * n + c]);
+	for (int k = 0; k < 4; k++)
+		gsl_matrix_set(J, gi[k], n, -g[k]);
+	for (int c = 0; c < n; c++) {
+		double gh = 0;
+		for (int k = 0; k < 4; k++)
+			gh += g[k] * h[(size_t)gi[k] * n + c];
+		gsl_matrix_set(J, n, c, g0 / l0 * gh);
+	}
+	gsl_matrix_set(J, n, n, -1 / tau + 2 * g0 / l0);
+	gsl_vector_complex *ev = gsl_vector_complex_alloc(N);
+	gsl_matrix_complex *evec = gsl_matrix_complex_alloc(N, N);
+	gsl_eigen_nonsymmv_workspace *w = gsl_eigen_nonsymmv_alloc(N);
+	gsl_eigen_nonsymmv(J, ev, evec, w);
+	int best = -1;
+	for (int i = 0; i < N; i++) {
+		gsl_complex z = gsl_vector_complex_get(ev, i);
+		if (gsl_complex_abs(z) < 1e-8)
+			continue;   /* the two translations */
+		if (best < 0 || GSL_REAL(z) > GSL_REAL(gsl_vector_complex_get(ev, best)))
+			best = i;
+	}
+	gsl_complex lam = gsl_vector_complex_get(ev, best);
+	if (v) {
+		/* scale so that the tension entry is real: then the real part
+		 * moves the tension */
+		gsl_complex s = gsl_matrix_complex_get(evec, n, best);
+		double sa = gsl_complex_abs(s);
+		for (int i = 0; i < N; i++) {
+			gsl_complex z = gsl_matrix_complex_get(evec, i, best);
+			/* z * conj(s)/|s| */
+			v[i] = (GSL_REAL(z) * GSL_REAL(s) + GSL_IMAG(z) * GSL_IMAG(s)) / sa;
+		}
+	}
+	gsl_eigen_nonsymmv_free(w);
+	gsl_matrix_complex_free(evec);
+	gsl_vector_complex_free(ev);
+	gsl_matrix_free(J);
+	free(h);
+	return lam;
+}
+
+/* Samples of l(t) on a grid, from the observer. */
+typedef struct {
+	int j;
+	double dt;
+	int n, cap;
+	double *t, *l;
+	long k;
+	int every_step;
+} rec;
+
+static void rec_add(rec *q, double t, double l)
+{
+	if (q->n == q->cap) {
+		q->cap = q->cap ? 2 * q->cap : 1024;
+		q->t = realloc(q->t, q->cap * sizeof *q->t);
+		q->l = realloc(q->l, q->cap * sizeof *q->l);
+	}
+	q->t[q->n] = t;
+	q->l[q->n++] = l;
+}
+
+static int record(act *a, void *data)
+{
+	rec *q = data;
+	act_row w;
+	if (q->every_step) {
+		act_row_at(a, act_time(a), q->j, &w);
+		rec_add(q, w.t, w.l);
+		return 0;
+	}
+	while ((q->k + 1) * q->dt <= act_time(a)) {
+		q->k++;
+		act_row_at(a, q->k * q->dt, q->j, &w);
+		rec_add(q, w.t, w.l);
+	}
+	return 0;
+}
+
+/* Run m (copied) with junction j active from the given start offsets. */
+static act *run(const mesh *m0, mesh **mo, int j, const act_opts *o, double t_end,
+                rec *q, act_end *why)
+{
+	mesh *m = mesh_copy(m0);
+	model p = model_from_mesh(m);
+	unsigned char *flag = calloc(m->nj, 1);
+	flag[j] = 1;
+	act *a;
+	mesh_error err;
+	if (act_alloc(m, &p, o, flag, 0, 1, &a, &err) != MESH_OK) {
+		diag("act_alloc: %s", err.msg);
+		free(flag);
+		mesh_free(m);
+		return NULL;
+	}
+	free(flag);
+	act_run(a, t_end, NULL, q ? record : NULL, q, why, &err);
+	*mo = m;
+	return a;
+}
+
+static double maxdiff(const mesh *a, const mesh *b, int j)
+{
+	double d = 0;
+	/* Euler keeps coordinates in the box, BDF does not: minimum image */
+	for (int i = 0; i < 2 * a->nv; i++) {
+		double L = i % 2 ? a->ly : a->lx, x = a->r[i] - b->r[i];
+		d = fmax(d, fabs(x - L * nearbyint(x / L)));
+	}
+	return fmax(d, fabs(a->dg[j] - b->dg[j]));
+}
+
+static void convergence(void)
+{
+	mesh *m0 = honeycomb(6, 3.65);
+	int j = 0;
+	act_perturb(m0, NULL, 1e-3, 3, NULL, 0);
+	for (int k = 0; k < m0->nj; k++)
+		if (k != j)
+			m0->dg[k] = 0;
+	m0->dg[j] = 0.02;
+	act_opts o;
+	act_opts_init(&o);
+	o.tau = 2;
+	o.gamma0 = 0.3;
+	o.rtol = 1e-11;
+	act_end why;
+	mesh *ref, *e[3];
+	act_free(run(m0, &ref, j, &o, 10, NULL, &why));
+	ok(why == ACT_END_TIME, "bdf reference run reaches t = 10");
+	o.scheme = ACT_EULER;
+	double err[3];
+	for (int i = 0; i < 3; i++) {
+		o.dt_max = 1e-3 / (1 << i);
+		act_free(run(m0, &e[i], j, &o, 10, NULL, &why));
+		err[i] = maxdiff(e[i], ref, j);
+		diag("euler dt %g: max |state - bdf(1e-11)| = %.3g", o.dt_max, err[i]);
+	}
+	double r1 = err[0] / err[1], r2 = err[1] / err[2];
+	ok(r1 > 1.8 && r1 < 2.2 && r2 > 1.8 && r2 < 2.2,
+	   "euler converges to bdf at first order (error ratios %.3f, %.3f on halving dt)", r1, r2);
+	ok(err[2] < 1e-5, "euler at dt 2.5e-4 within 1e-5 of bdf (%.2g)", err[2]);
+	/* bdf at looser tolerances approaches the tight one */
+	o.scheme = ACT_BDF;
+	double eb[3];
+	for (int i = 0; i < 3; i++) {
+		mesh *mb;
+		o.rtol = pow(10, -5 - 2 * i);
+		act_free(run(m0, &mb, j, &o, 10, NULL, &why));
+		eb[i] = maxdiff(mb, ref, j);
+		diag("bdf rtol %g: max |state - bdf(1e-11)| = %.3g", o.rtol, eb[i]);
+		mesh_free(mb);
+	}
+	ok(eb[1] < eb[0] && eb[2] < eb[1] && eb[2] < 1e-7, "bdf error falls with rtol");
+	for (int i = 0; i < 3; i++)
+		mesh_free(e[i]);
+	mesh_free(ref);
+	mesh_free(m0);
+}
+
+/* Growth rate and angular frequency of x(t) = l - l0 from its successive
+ * maxima (parabolic interpolation): one period apart, their ratio is
+ * exp(a T) whatever the phase. */
+static int fit_osc(const rec *q, double l0, double tmin, double *a, double *w)
+{
+	double tm[64], xm[64];
+	int nm = 0;
+	for (int i = 1; i + 1 < q->n && nm < 64; i++) {
+		double x0 = q->l[i - 1] - l0, x1 = q->l[i] - l0, x2 = q->l[i + 1] - l0;
+		if (q->t[i] < tmin || !(x1 > x0 && x1 >= x2 && x1 > 0))
+			continue;
+		double den = x0 - 2 * x1 + x2;
+		double s = 0.5 * (x0 - x2) / den;
+		tm[nm] = q->t[i] + s * q->dt;
+		xm[nm++] = x1 - 0.25 * (x0 - x2) * s;
+	}
+	if (nm < 3)
+		return 0;
+	double T = (tm[nm - 1] - tm[0]) / (nm - 1);
+	*w = 2 * TWO_PI_HALF / T;
+	*a = log(xm[nm - 1] / xm[0]) / (tm[nm - 1] - tm[0]);
+	return 1;
+}
+
+static void linear(void)
+{
+	mesh *m0 = honeycomb(6, 3.65);
+	model p = model_from_mesh(m0);
+	int j = 0;
+	double tau = 2, l0 = junction_length(m0, m0->r, j);
+	/* the Hopf threshold by bisection on the dense J */
+	double lo = 0, hi = 5;
+	for (int it = 0; it < 50; it++) {
+		double mid = 0.5 * (lo + hi);
+		if (GSL_REAL(leading(m0, &p, j, tau, mid, NULL)) > 0)
+			hi = mid;
+		else
+			lo = mid;
+	}
+	double gstar = 0.5 * (lo + hi);
+	gsl_complex z0 = leading(m0, &p, j, tau, gstar, NULL);
+	diag("rate %g: gamma0* = %.6f (coarse-grained l0/(2 tau) = %.6f), frequency there %.6f",
+	     1 / tau, gstar, l0 / (2 * tau), GSL_IMAG(z0));
+	ok(gstar > l0 / (2 * tau) && fabs(GSL_IMAG(z0)) > 1e-3,
+	   "rigid honeycomb: a Hopf threshold above the coarse-grained one");
+	int n = 2 * m0->nv;
+	double *v = malloc((n + 1) * sizeof *v);
+	for (int side = 0; side < 2; side++) {
+		double g0 = gstar * (side ? 1.05 : 0.95);
+		gsl_complex lam = leading(m0, &p, j, tau, g0, v);
+		/* start along the eigenvector's real part, 1e-6 in size */
+		mesh *m = mesh_copy(m0);
+		mesh_tension_alloc(m);
+		double vmax = 0;
+		for (int i = 0; i <= n; i++)
+			vmax = fmax(vmax, fabs(v[i]));
+		for (int i = 0; i < n; i++)
+			m->r[i] += 1e-6 * v[i] / vmax;
+		m->dg[j] = 1e-6 * v[n] / vmax;
+		act_opts o;
+		act_opts_init(&o);
+		o.tau = tau;
+		o.gamma0 = g0;
+		o.rtol = 1e-10;
+		double T = 2 * TWO_PI_HALF / fabs(GSL_IMAG(lam));
+		rec q = { .j = j, .dt = T / 400 };
+		act_end why;
+		mesh *mo;
+		act_free(run(m, &mo, j, &o, 6 * T, &q, &why));
+		double a = NAN, w = NAN;
+		int got = fit_osc(&q, l0, 0.5 * T, &a, &w);
+		diag("gamma0 %.5f: eigenvalue %.6f %+.6fi; trajectory a %.6f, w %.6f",
+		     g0, GSL_REAL(lam), GSL_IMAG(lam), a, w);
+		ok(got && fabs(a - GSL_REAL(lam)) <= 0.01 * fabs(GSL_REAL(lam)),
+		   "%s threshold: growth rate of l - l0 matches Re lambda within 1%%",
+		   side ? "above" : "below");
+		ok(got && fabs(w - fabs(GSL_IMAG(lam))) <= 0.01 * fabs(GSL_IMAG(lam)),
+		   "%s threshold: frequency of l - l0 matches Im lambda within 1%%",
+		   side ? "above" : "below");
+		free(q.t);
+		free(q.l);
+		mesh_free(mo);
+		mesh_free(m);
+	}
+	free(v);
+	mesh_free(m0);
+}
+
+/* beta from a least-squares line of log l against log(t_c - t) over
+ * 3 x_e <= t_c - t <= 30 x_e, x_e = t_c - t_end: a decade that ends short
+ * of the last point, where t_c is extrapolated */
+static void collapse(void)
+{
+	static const double pts[5][3] = {   /* p0, rate, gamma0 */
+		{ 3.65, 0.1, 1.0 }, { 3.65, 0.05, 0.6 }, { 3.60, 0.1, 1.5 },
+		{ 3.70, 0.2, 1.0 }, { 3.65, 1.0, 3.0 } };
+	for (int i = 0; i < 5; i++) {
+		mesh *m0 = honeycomb(6, pts[i][0]);
+		act_perturb(m0, NULL, 1e-4, 7 + i, NULL, 0);
+		act_opts o;
+		act_opts_init(&o);
+		o.tau = 1 / pts[i][1];
+		o.gamma0 = pts[i][2];
+		o.rtol = 1e-9;
+		o.l_collapse = 1e-4;
+		rec q = { .j = 0, .every_step = 1 };
+		act_end why;
+		mesh *mo;
+		act *a = run(m0, &mo, 0, &o, 2000, &q, &why);
+		act_row w;
+		act_row_at(a, act_time(a), 0, &w);
+		double tc = w.t + w.l / (2 * fabs(w.ldot)), xe = tc - w.t;
+		double sx = 0, sy = 0, sxx = 0, sxy = 0;
+		int k = 0;
+		for (int s = 0; s < q.n; s++) {
+			double x = tc - q.t[s];
+			if (x < 3 * xe || x > 30 * xe)
+				continue;
+			double lx = log(x), ly = log(q.l[s]);
+			sx += lx; sy += ly; sxx += lx * lx; sxy += lx * ly;
+			k++;
+		}
+		double beta = (k * sxy - sx * sy) / (k * sxx - sx * sx);
+		diag("p0 %.2f rate %g gamma0 %g: collapse at t %.4f (t_c %.6f), beta %.4f from %d steps",
+		     pts[i][0], pts[i][1], pts[i][2], w.t, tc, beta, k);
+		ok(why == ACT_END_COLLAPSE && k >= 10 && fabs(beta - 0.5) <= 0.02,
+		   "collapse %d: l ~ (t_c - t)^beta, beta = 0.50 +- 0.02", i + 1);
+		act_free(a);
+		free(q.t);
+		free(q.l);
+		mesh_free(mo);
+		mesh_free(m0);
+	}
+}
+
+int main(void)
+{
+	tap_plan(4 + 5 + 5);
+	convergence();
+	linear();
+	collapse();
+	return tap_done();
+}

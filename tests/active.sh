@@ -1,0 +1,85 @@
+#!/bin/sh
+# tis-active: options, bad input, outputs, determinism, collapse, network,
+# several junctions, interruption and continuation.  Short runs on 6x6.
+. "$(dirname "$0")/lib.sh"
+
+plan 39
+
+tis-hex 6 6 --p0 3.65 >"$T/hex.mesh" || exit 1
+H="$T/hex.mesh"
+A="--rate 0.5 --gamma0 0.3"
+
+ok "--help exits 0 and names --network" sh -c 'tis-active --help | grep -q -- --network'
+ok "--version" sh -c 'tis-active --version | grep -q "^tis-active (tis)"'
+fails_with 2 "no junction chosen" tis-active "$H"
+fails_with 2 "two selections" tis-active --index 0 --network "$H"
+fails_with 2 "--rate negative" tis-active --index 0 --rate -1 "$H"
+fails_with 2 "--rate nan" tis-active --index 0 --rate nan "$H"
+fails_with 2 "--tau 0" tis-active --index 0 --tau 0 "$H"
+fails_with 2 "--gamma0 nan" tis-active --index 0 --gamma0 nan "$H"
+fails_with 2 "--sigma negative" tis-active --index 0 --sigma -0.1 "$H"
+fails_with 2 "--scheme unknown" tis-active --index 0 --scheme rk4 "$H"
+fails_with 2 "noise with bdf" tis-active --index 0 --sigma 0.1 --scheme bdf "$H"
+fails_with 2 "--trace without %d for several junctions" tis-active --random 2 --trace "$T/x.tsv" "$H"
+fails_with 1 "--junction that does not exist" tis-active --junction 0 40 "$H"
+fails_with 1 "--junction vertex out of range" tis-active --junction 0 9999 "$H"
+fails_with 1 "--index out of range" tis-active --index 108 "$H"
+printf '0 1\nbad line\n' >"$T/list"
+fails_with 1 "--list with a bad line" tis-active --list "$T/list" "$H"
+awk '/^vertices/ { print; getline; $1 += 0.01 } { print }' "$H" >"$T/moved.mesh"
+fails_with 1 "a mesh not at rest" tis-active --index 0 $A "$T/moved.mesh"
+tis-voronoi 36 --seed 1 >"$T/vor.mesh"
+ok "an unrelaxed Voronoi tissue: not at rest, said so" sh -c "tis-active --index 0 --time 1 '$T/vor.mesh' 2>&1 >/dev/null | grep -q 'not at rest'"
+fails_with 1 "missing input file" tis-active --index 0 "$T/none.mesh"
+
+# one junction: final mesh, trace, history line
+tis-active --index 0 $A --time 20 --trace "$T/tr.tsv" "$H" >"$T/a.mesh" 2>"$T/a.err"
+ok "one junction writes a mesh that reads back" sh -c "tis-active --index 0 --time 0 '$T/a.mesh' >/dev/null"
+ok "its tension is in the junctions section" grep -q '^junctions 1$' "$T/a.mesh"
+ok "the history line says how and when it ended" grep -q '# end time at t 20; bdf' "$T/a.mesh"
+ok "trace header: provenance, then t l dg" sh -c "grep -v '^#' '$T/tr.tsv' | head -1 | grep -q '^t	l	dg	'"
+ok "trace: first row t 0, last row t 20, one per unit" sh -c "awk '!/^#/ && NR > 0 && \$1 != \"t\" { n++; if (n == 1) f = \$1; e = \$1 } END { exit !(f == 0 && e == 20 && n == 21) }' '$T/tr.tsv'"
+ok "nothing on stderr when it is not a terminal" test ! -s "$T/a.err"
+tis-active --index 0 $A --time 20 "$H" >"$T/b.mesh"
+ok "watching does not change the run (trace or not: same mesh)" sh -c "grep -v '^history' '$T/a.mesh' >'$T/h1'; grep -v '^history' '$T/b.mesh' >'$T/h2'; cmp -s '$T/h1' '$T/h2'"
+
+# the same seed gives the same bytes; another seed another state
+tis-active --index 0 $A --time 5 --scheme euler --sigma 0.05 --seed 4 "$H" >"$T/n1.mesh"
+tis-active --index 0 $A --time 5 --scheme euler --sigma 0.05 --seed 4 "$H" >"$T/n2.mesh"
+tis-active --index 0 $A --time 5 --scheme euler --sigma 0.05 --seed 5 "$H" >"$T/n3.mesh"
+ok "same seed, same bytes (euler with noise)" cmp -s "$T/n1.mesh" "$T/n2.mesh"
+ok "another seed, another state" sh -c "! cmp -s '$T/n1.mesh' '$T/n3.mesh'"
+
+# collapse with T1s off: stops cleanly at l = 0.001, t_c after it
+tis-active --index 0 --rate 0.1 --gamma0 1 --trace "$T/c.tsv" "$H" >"$T/c.mesh"; st=$?
+ok "a collapse ends the run with exit 0" test "$st" -eq 0
+ok "the history says collapse and t_c" grep -Eq '# end collapse at t [0-9.]+, t_c [0-9.]+' "$T/c.mesh"
+ok "the last trace row is the collapse (l = 0.001)" sh -c "tail -1 '$T/c.tsv' | awk '{ exit !(\$2 > 0.00099 && \$2 < 0.00101) }'"
+
+# a mesh with tensions starts from them exactly: --time 0 leaves it as it is
+tis-active --index 0 --time 0 "$T/a.mesh" >"$T/z.mesh"
+ok "a mesh with tensions, --time 0: the same coordinates and tensions" sh -c "sed -n '/^vertices/,\$p' '$T/a.mesh' >'$T/s1'; sed -n '/^vertices/,\$p' '$T/z.mesh' >'$T/s2'; cmp -s '$T/s1' '$T/s2'"
+
+# several junctions: one row each, traces by index
+tis-active --random 3 --seed 2 $A --time 5 --trace "$T/tr%d.tsv" "$H" >"$T/sev.tsv"
+ok "--random 3: header and three rows" sh -c "grep -v '^#' '$T/sev.tsv' | awk 'NR == 1 && /^j	a	b	l0	reason	t_end	t_c	l_end/ { h = 1 } END { exit !(h && NR == 4) }'"
+ok "--random 3: a trace per junction" sh -c "ls '$T'/tr[0-9]*.tsv | wc -l | grep -qx 3"
+printf '# a comment\n0\n' >"$T/list1"
+tis-active --list "$T/list1" $A --time 5 "$H" >"$T/l1.tsv"
+tis-active --index 0 $A --time 5 "$H" >"$T/i1.mesh"
+ok "--list K gives the run of --index K" sh -c "grep -v '^#' '$T/l1.tsv' | tail -1 | cut -f8 | grep -q \"\$(awk '/^junctions/ { getline; print \$1 }' '$T/i1.mesh' >/dev/null; tis-active --index 0 --time 0 '$T/i1.mesh' --trace '$T/i1.tsv' >/dev/null; tail -1 '$T/i1.tsv' | cut -f2 | cut -c1-10)\""
+
+# network: T1s on, events logged
+tis-active --network --rate 0.5 --gamma0 0.5 --time 8 --trace "$T/net.tsv" --events "$T/ev.tsv" "$H" >"$T/net.mesh"
+ok "network trace columns" sh -c "grep -v '^#' '$T/net.tsv' | head -1 | grep -q '^t	f6	W	nt1	dg_mean	dg_sd'"
+ok "network: T1s happen and each is an event row" sh -c "n=\$(grep -v '^#' '$T/ev.tsv' | tail -n +2 | wc -l); t=\$(tail -1 '$T/net.tsv' | cut -f4); [ \"\$n\" -gt 0 ] && [ \"\$n\" -eq \"\$t\" ]"
+
+# SIGTERM: a valid mesh, exit 3, and continuing gives the uninterrupted state
+R="--index 0 $A --scheme euler --sigma 0.02 --time 300"
+tis-active $R "$H" >"$T/full.mesh"
+tis-active $R "$H" >"$T/part.mesh" 2>/dev/null & pid=$!
+sleep 0.1; kill -TERM $pid; wait $pid; st=$?
+ok "SIGTERM: exit 3 and the time in a state line" sh -c "[ $st -eq 3 ] && grep -q '^state active_t ' '$T/part.mesh'"
+tis-active $R "$T/part.mesh" >"$T/cont.mesh"
+ok "continued from the interrupted mesh: the uninterrupted state, to the bit" sh -c "sed -n '/^vertices/,\$p' '$T/full.mesh' >'$T/f1'; sed -n '/^vertices/,\$p' '$T/cont.mesh' >'$T/f2'; cmp -s '$T/f1' '$T/f2'"
+done_testing
