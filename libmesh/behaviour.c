@@ -288,7 +288,14 @@ int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
 		return MESH_OK;
 	}
 
-	if (m >= 3) {
+	double xt = 0;
+	for (int i = tail; i < n; i++)
+		xt = fmax(xt, fabs(l[i] - l0));
+	int decayed = xt <= 0.1 * amax;
+	/* Irregular oscillations that have not died down are kept up by
+	 * noise; irregular ones that have (passive modes beating with the
+	 * junction's at small amplitude) are judged like the rest. */
+	if (m >= 3 && !(r->irregularity > o->irregular && decayed)) {
 		if (r->irregularity > o->irregular)
 			r->kind = BEH_QUASICYCLE;
 		else if (r->decay < -o->cycle_tol)
@@ -299,10 +306,7 @@ int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
 			r->kind = BEH_CYCLE;
 		return MESH_OK;
 	}
-	double xt = 0;
-	for (int i = tail; i < n; i++)
-		xt = fmax(xt, fabs(l[i] - l0));
-	if (xt <= 0.1 * amax)
+	if (decayed)
 		r->kind = r->changes >= 3 ? BEH_DAMPED : BEH_STABLE;
 	return MESH_OK;
 }

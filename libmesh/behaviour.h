@@ -20,15 +20,18 @@
  *     counted when x passes from beyond +band to beyond -band or back);
  *     a full period runs from one upward change to the next, and its
  *     amplitude is (max - min)/2 of l over it.
+ *     The trace has decayed when max |x| over its last tail_frac is at
+ *     most 0.1 A.
  *     - with at least 3 full periods, over the last (at most 5) periods:
  *       the decay rate per period rho (the slope of log amplitude against
  *       period number) and the irregularity (the rms residual of that fit,
  *       and the coefficient of variation of the periods): irregularity >
- *       irregular -> quasicycle; rho < -cycle_tol -> damped; rho >
- *       cycle_tol -> undecided (still growing); otherwise cycle.
- *     - fewer periods: decayed (max |x| over the last tail_frac of the
- *       trace <= 0.1 A) with at least 3 sign changes -> damped, with fewer
- *       -> stable; not decayed -> undecided (too short to tell).
+ *       irregular and not decayed -> quasicycle; if regular: rho <
+ *       -cycle_tol -> damped; rho > cycle_tol -> undecided (still
+ *       growing); otherwise cycle.
+ *     - otherwise (fewer periods, or irregular and decayed): decayed with
+ *       at least 3 sign changes -> damped, with fewer -> stable; not
+ *       decayed -> undecided (too short to tell).
  */
 #ifndef TIS_BEHAVIOUR_H
 #define TIS_BEHAVIOUR_H
