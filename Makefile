@@ -23,7 +23,7 @@ CXXFLAGS ?= $(OPT) -g
 WARN = -Wall -Wextra
 ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -Ilibmesh -DTIS_VERSION='"$(VERSION)"' $(CFLAGS)
 ALL_CXXFLAGS = -std=c++17 $(WARN) -Ilibmesh $(CXXFLAGS)
-LIBS = -lsundials_cvode -lsundials_nvecserial -lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread
+LIBS = -lsundials_cvode -lsundials_nvecserial -lnlopt -llapacke -lopenblas -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread
 
 # SAN=1 builds everything with sanitizers into build-san/, apart from the
 # normal objects, so the two never mix.
@@ -98,7 +98,7 @@ bench: all
 	  [ -x "$$b" ] || continue; \
 	  echo "== $$b"; PATH="$(CURDIR)/bin:$$PATH" "$$b" || exit 1; done
 
-DEBS = libgsl-dev libnlopt-dev libcgal-dev libsundials-dev g++ make
+DEBS = libgsl-dev libnlopt-dev libcgal-dev libsundials-dev liblapacke-dev libopenblas-dev g++ make
 # the sweeps (studies/): GNU parallel; the SLURM test: slurm-wlm
 SWEEPDEBS = parallel procps slurm-wlm
 FIGDEBS = gnuplot-nox

@@ -215,3 +215,53 @@ void cli_catch_signals(void)
 	sigaction(SIGINT, &sa, NULL);
 	sigaction(SIGTERM, &sa, NULL);
 }
+
+double *cli_double_list(const char *opt, const char *arg, int *n)
+{
+	char *buf = strdup(arg);
+	double *v = NULL;
+	*n = 0;
+	if (buf == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	char *c1 = strchr(buf, ':');
+	if (c1) {
+		char *c2 = strchr(c1 + 1, ':');
+		if (c2 == NULL || strchr(c2 + 1, ':'))
+			cli_usage_error("%s: a range is LO:HI:N, not '%s'", opt, arg);
+		*c1 = *c2 = '\0';
+		double lo = cli_double(opt, buf), hi = cli_double(opt, c1 + 1);
+		long k = cli_long(opt, c2 + 1, 1, 10000000);
+		if (k == 1 && lo != hi)
+			cli_usage_error("%s: a range of 1 point needs LO = HI", opt);
+		v = malloc((size_t)k * sizeof *v);
+		if (v == NULL)
+			cli_die(EXIT_INPUT, "out of memory");
+		for (long i = 0; i < k; i++)
+			v[i] = k == 1 ? lo : lo + (hi - lo) * (double)i / (double)(k - 1);
+		*n = (int)k;
+	} else {
+		int cap = 1;
+		for (const char *s = buf; *s; s++)
+			cap += *s == ',';
+		v = malloc((size_t)cap * sizeof *v);
+		if (v == NULL)
+			cli_die(EXIT_INPUT, "out of memory");
+		char *save = NULL;
+		for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save))
+			v[(*n)++] = cli_double(opt, tok);
+		if (*n == 0)
+			cli_usage_error("%s: an empty list", opt);
+	}
+	free(buf);
+	return v;
+}
+
+int cli_junction(const mesh *m, long a, long b)
+{
+	if (a >= m->nv || b >= m->nv)
+		cli_die(EXIT_INPUT, "--junction %ld %ld: the mesh has %d vertices", a, b, m->nv);
+	int j = mesh_junction_find(m, (int)a, (int)b);
+	if (j < 0)
+		cli_die(EXIT_INPUT, "--junction %ld %ld: no junction joins these vertices", a, b);
+	return j;
+}

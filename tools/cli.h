@@ -39,6 +39,15 @@ double cli_double(const char *opt, const char *arg);
 double cli_double_range(const char *opt, const char *arg, double lo, double hi);
 long cli_long(const char *opt, const char *arg, long lo, long hi);
 
+/* A list option: "v1,v2,..." or a range "lo:hi:n" (n points, both ends
+ * included), each value finite; malloc'd, *n values.  Usage error
+ * otherwise. */
+double *cli_double_list(const char *opt, const char *arg, int *n);
+
+/* The junction joining vertices a and b of m; exit 1 naming --junction if
+ * there is none. */
+int cli_junction(const mesh *m, long a, long b);
+
 /* Open a mesh input: NULL or "-" is stdin.  Exit 1 if it cannot be opened. */
 FILE *cli_open(const char *path);
 /* The name to use for an input in messages. */

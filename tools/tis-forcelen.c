@@ -166,13 +166,7 @@ static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 	int *sel = NULL;
 	switch (o->sel) {
 	case SEL_PAIR: {
-		if (o->va >= m->nv || o->vb >= m->nv)
-			cli_die(EXIT_INPUT, "--junction %ld %ld: the mesh has %d vertices",
-			        o->va, o->vb, m->nv);
-		int j = mesh_junction_find(m, (int)o->va, (int)o->vb);
-		if (j < 0)
-			cli_die(EXIT_INPUT, "--junction %ld %ld: no junction joins these vertices",
-			        o->va, o->vb);
+		int j = cli_junction(m, o->va, o->vb);
 		sel = malloc(sizeof *sel);
 		if (sel)
 			sel[n++] = j;

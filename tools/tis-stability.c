@@ -1,0 +1,362 @@
+/* tis-stability - linear stability of active junctions at a force-free state. */
+#include <getopt.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "stability.h"
+
+static const char usage[] =
+	"[--junction A B | --index K | --list FILE | --all] (--rate LIST | --tau LIST)\n"
+	"       [--gamma0 LIST] [--p0 X] [--ka Y] [--dense] [--network] [MESH]";
+static const char help[] =
+	"Linear stability of the force-free state of a tissue with one active\n"
+	"junction (paper eqs. 1-2): one eigendecomposition of the Hessian per mesh,\n"
+	"then the secular equation per junction and parameter point.  Every mesh\n"
+	"of the input stream is analysed in turn (one mesh per p0 gives the p0\n"
+	"axis); the table has one header.  The mesh must be at force balance.\n"
+	"\n"
+	"Junctions (default --all):\n"
+	"  --junction A B   the junction joining vertices A and B\n"
+	"  --index K        junction number K (0-based)\n"
+	"  --list FILE      junctions from FILE, one a line: K, or A B ('#' comments)\n"
+	"  --all            every junction\n"
+	"Parameters (LIST: v1,v2,... or lo:hi:n, n points, both ends included):\n"
+	"  --rate LIST      1/tau_m, each > 0\n"
+	"  --tau LIST       tau_m, each > 0 (instead of --rate)\n"
+	"  --gamma0 LIST    eigenvalue rows at these gamma0 instead of thresholds\n"
+	"  --p0 X, --ka Y   override the mesh's parameters\n"
+	"Checks:\n"
+	"  --dense          also solve the full non-symmetric Jacobian (dgeev):\n"
+	"                   with --gamma0 its leading eigenvalue (dense_re dense_im),\n"
+	"                   without it the leading eigenvalue at g0star\n"
+	"  --network        with --gamma0: every junction active, the dense Jacobian\n"
+	"                   of size 2 nv + nj (columns p0 n rate gamma0 re im)\n"
+	"  --ftol F         largest vertex force of a balanced mesh (1e-8)\n"
+	"  --zero-tol Z     |d| <= Z max|d| is a zero mode of the Hessian (1e-10)\n"
+	"  --solver NAME    lapack (dsyevd, default) or gsl (gsl_eigen_symmv)\n"
+	"  -h, --help       this help\n"
+	"  --version        print the version\n"
+	"\n"
+	"Threshold rows: p0 j a b l0 rate g0star omega kind g0cg beta a1; kind is\n"
+	"hopf (omega the frequency), real, none or unstable (negative Hessian\n"
+	"modes: g0star nan, exit 1).  Eigenvalue rows: p0 j a b l0 rate gamma0 re im,\n"
+	"the non-passive eigenvalue of largest real part (im >= 0).\n";
+
+enum { SEL_ALL, SEL_PAIR, SEL_INDEX, SEL_LIST };
+
+struct opts {
+	int sel, nsel;
+	long va, vb, index;
+	const char *list;
+	double *rate, *gamma0;
+	int nrate, ngamma0;
+	int has_p0, has_ka, dense, network;
+	double p0, ka;
+	stab_opts so;
+	const char *input;
+};
+
+static void set_sel(struct opts *o, int sel)
+{
+	if (o->nsel++ > 0)
+		cli_usage_error("choose one of --junction, --index, --list, --all");
+	o->sel = sel;
+}
+
+static double *positive_list(const char *opt, const char *arg, int *n, int invert)
+{
+	double *v = cli_double_list(opt, arg, n);
+	for (int i = 0; i < *n; i++) {
+		if (!(v[i] > 0))
+			cli_usage_error("%s: every value must be > 0 (got %g)", opt, v[i]);
+		if (invert)
+			v[i] = 1 / v[i];
+	}
+	return v;
+}
+
+static struct opts parse(int argc, char **argv)
+{
+	enum { O_JUNCTION = 256, O_INDEX, O_LIST, O_ALL, O_RATE, O_TAU, O_GAMMA0,
+	       O_P0, O_KA, O_DENSE, O_NETWORK, O_FTOL, O_ZTOL, O_SOLVER, O_VERSION };
+	static const struct option lo[] = {
+		{ "junction", required_argument, NULL, O_JUNCTION },
+		{ "index", required_argument, NULL, O_INDEX },
+		{ "list", required_argument, NULL, O_LIST },
+		{ "all", no_argument, NULL, O_ALL },
+		{ "rate", required_argument, NULL, O_RATE },
+		{ "tau", required_argument, NULL, O_TAU },
+		{ "gamma0", required_argument, NULL, O_GAMMA0 },
+		{ "p0", required_argument, NULL, O_P0 },
+		{ "ka", required_argument, NULL, O_KA },
+		{ "dense", no_argument, NULL, O_DENSE },
+		{ "network", no_argument, NULL, O_NETWORK },
+		{ "ftol", required_argument, NULL, O_FTOL },
+		{ "zero-tol", required_argument, NULL, O_ZTOL },
+		{ "solver", required_argument, NULL, O_SOLVER },
+		{ "help", no_argument, NULL, 'h' },
+		{ "version", no_argument, NULL, O_VERSION },
+		{ 0 }
+	};
+	struct opts o = { .sel = SEL_ALL };
+	stab_opts_init(&o.so);
+	int c;
+	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+		switch (c) {
+		case O_JUNCTION:
+			set_sel(&o, SEL_PAIR);
+			o.va = cli_long("--junction", optarg, 0, 2000000000);
+			if (optind >= argc)
+				cli_usage_error("option '--junction' needs two vertex ids");
+			o.vb = cli_long("--junction", argv[optind++], 0, 2000000000);
+			break;
+		case O_INDEX:
+			set_sel(&o, SEL_INDEX);
+			o.index = cli_long("--index", optarg, 0, 2000000000);
+			break;
+		case O_LIST: set_sel(&o, SEL_LIST); o.list = optarg; break;
+		case O_ALL: set_sel(&o, SEL_ALL); break;
+		case O_RATE:
+		case O_TAU:
+			if (o.rate)
+				cli_usage_error("give one of --rate and --tau, once");
+			o.rate = positive_list(c == O_RATE ? "--rate" : "--tau", optarg,
+			                       &o.nrate, c == O_TAU);
+			break;
+		case O_GAMMA0:
+			free(o.gamma0);
+			o.gamma0 = cli_double_list("--gamma0", optarg, &o.ngamma0);
+			for (int i = 0; i < o.ngamma0; i++)
+				if (!(o.gamma0[i] >= 0))
+					cli_usage_error("--gamma0: every value must be >= 0 (got %g)",
+					                o.gamma0[i]);
+			break;
+		case O_P0: o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
+		case O_KA: o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case O_DENSE: o.dense = 1; break;
+		case O_NETWORK: o.network = 1; break;
+		case O_FTOL: o.so.ftol = cli_double_range("--ftol", optarg, 1e-16, 1e6); break;
+		case O_ZTOL: o.so.zerotol = cli_double_range("--zero-tol", optarg, 0, 0.1); break;
+		case O_SOLVER:
+			if (strcmp(optarg, "lapack") == 0)
+				o.so.solver = STAB_LAPACK;
+			else if (strcmp(optarg, "gsl") == 0)
+				o.so.solver = STAB_GSL;
+			else
+				cli_usage_error("--solver: unknown eigensolver '%s'", optarg);
+			break;
+		case 'h': cli_help(help);
+		case O_VERSION: cli_version();
+		default: cli_bad_option(argv, c);
+		}
+	}
+	if (o.rate == NULL)
+		cli_usage_error("give the rates 1/tau_m with --rate or --tau");
+	if (o.network && o.gamma0 == NULL)
+		cli_usage_error("--network needs --gamma0");
+	if (o.network && o.nsel > 0)
+		cli_usage_error("--network makes every junction active: no junction options");
+	if (argc - optind > 1)
+		cli_usage_error("at most one input file");
+	o.input = optind < argc ? argv[optind] : NULL;
+	return o;
+}
+
+/* Junctions of --list FILE: "K" or "A B" per line. */
+static int *read_list(const char *path, const mesh *m, int *count)
+{
+	FILE *f = fopen(path, "r");
+	if (f == NULL)
+		cli_die(EXIT_INPUT, "--list %s: cannot open it", path);
+	int n = 0, cap = 16;
+	int *sel = malloc((size_t)cap * sizeof *sel);
+	char buf[256];
+	long line = 0;
+	while (sel && fgets(buf, sizeof buf, f)) {
+		line++;
+		char *h = strchr(buf, '#');
+		if (h)
+			*h = '\0';
+		long a, b;
+		char extra;
+		int got = sscanf(buf, "%ld %ld %c", &a, &b, &extra);
+		if (got <= 0)
+			continue;   /* blank or comment */
+		int j = -1;
+		if (got == 1 && a >= 0 && a < m->nj)
+			j = (int)a;
+		else if (got == 2 && a >= 0 && b >= 0)
+			j = cli_junction(m, a, b);
+		else
+			cli_die(EXIT_INPUT, "--list %s:%ld: not a junction of the mesh (%d junctions)",
+			        path, line, m->nj);
+		if (n == cap)
+			sel = realloc(sel, (size_t)(cap *= 2) * sizeof *sel);
+		if (sel)
+			sel[n++] = j;
+	}
+	fclose(f);
+	if (sel == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (n == 0)
+		cli_die(EXIT_INPUT, "--list %s: no junctions in it", path);
+	*count = n;
+	return sel;
+}
+
+static int *select_junctions(const struct opts *o, const mesh *m, int *count)
+{
+	if (o->sel == SEL_LIST)
+		return read_list(o->list, m, count);
+	int n = o->sel == SEL_ALL ? m->nj : 1;
+	int *sel = malloc(((size_t)n + 1) * sizeof *sel);
+	if (sel == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (o->sel == SEL_PAIR)
+		sel[0] = cli_junction(m, o->va, o->vb);
+	else if (o->sel == SEL_INDEX) {
+		if (o->index >= m->nj)
+			cli_die(EXIT_INPUT, "--index %ld: the mesh has %d junctions", o->index, m->nj);
+		sel[0] = (int)o->index;
+	} else
+		for (int j = 0; j < n; j++)
+			sel[j] = j;
+	*count = n;
+	return sel;
+}
+
+/* The header goes out before the first row, so that input refused before
+ * any row (no mesh, not at force balance) leaves no output. */
+static void print_header(const struct opts *o, const mesh *m)
+{
+	static int done;
+	if (done++)
+		return;
+	const char *cols;
+	if (o->network)
+		cols = "p0\tn\trate\tgamma0\tre\tim";
+	else if (o->gamma0)
+		cols = o->dense ? "p0\tj\ta\tb\tl0\trate\tgamma0\tre\tim\tdense_re\tdense_im"
+		                : "p0\tj\ta\tb\tl0\trate\tgamma0\tre\tim";
+	else
+		cols = o->dense ? "p0\tj\ta\tb\tl0\trate\tg0star\tomega\tkind\tg0cg\tbeta\ta1"
+		                  "\tdense_re\tdense_im"
+		                : "p0\tj\ta\tb\tl0\trate\tg0star\tomega\tkind\tg0cg\tbeta\ta1";
+	cli_table_header(stdout, m, cols);
+}
+
+static void dense_check(const mesh *m, const model *p, const struct opts *o, int j,
+                        double rate, double g0)
+{
+	double re = NAN, im = NAN;
+	mesh_error err;
+	if (isfinite(g0) && stab_dense_leading(m, p, &o->so, j, rate, g0, &re, &im, &err) != MESH_OK)
+		cli_die(EXIT_INPUT, "dense check: %s", err.msg);
+	printf("\t%.12g\t%.12g", re, im);
+}
+
+/* Every row of one mesh; 1 if the passive state has negative modes. */
+static int analyse(const mesh *m, const model *p, const struct opts *o)
+{
+	if (o->network) {
+		for (int r = 0; r < o->nrate && !cli_stop; r++)
+			for (int g = 0; g < o->ngamma0 && !cli_stop; g++) {
+				double re, im;
+				mesh_error err;
+				if (stab_network_leading(m, p, &o->so, o->rate[r], o->gamma0[g],
+				                         &re, &im, &err) != MESH_OK)
+					cli_die(EXIT_INPUT, "%s", err.msg);
+				print_header(o, m);
+				printf("%.10g\t%d\t%.10g\t%.10g\t%.12g\t%.12g\n", p->p0,
+				       2 * m->nv + m->nj, o->rate[r], o->gamma0[g], re, im);
+			}
+		return 0;
+	}
+	stab_decomp *sd;
+	mesh_error err;
+	if (stab_decomp_alloc(m, p, &o->so, &sd, &err) != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err.msg);
+	int n, count, nneg = stab_decomp_nneg(sd);
+	stab_decomp_eigenvalues(sd, &n);
+	stab_jn *jn = stab_jn_alloc(n);
+	int *sel = select_junctions(o, m, &count);
+	if (jn == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	print_header(o, m);
+	for (int k = 0; k < count && !cli_stop; k++) {
+		stab_jn_set(sd, m, sel[k], jn);
+		for (int r = 0; r < o->nrate; r++) {
+			double rate = o->rate[r];
+			if (o->gamma0 == NULL) {
+				stab_crit c;
+				int st = stab_critical(jn, rate, &c);
+				if (st == MESH_ENOCONV)
+					cli_die(EXIT_NOCONV, "junction %d, rate %g: the threshold root-find failed",
+					        jn->j, rate);
+				printf("%.10g\t%d\t%d\t%d\t%.12g\t%.10g\t%.10g\t%.10g\t%s\t%.10g\t%.6g\t%.10g",
+				       p->p0, jn->j, jn->a, jn->b, jn->l0, rate, c.g0star, c.omega,
+				       stab_kind_name(c.kind), c.g0cg, c.beta, stab_jn_a1(jn));
+				if (o->dense)
+					dense_check(m, p, o, jn->j, rate, c.g0star);
+				putchar('\n');
+				continue;
+			}
+			for (int g = 0; g < o->ngamma0; g++) {
+				double re = NAN, im = NAN;
+				if (nneg == 0 && stab_leading(jn, rate, o->gamma0[g], &re, &im) != MESH_OK)
+					cli_die(EXIT_NOCONV, "junction %d, rate %g, gamma0 %g: no root found",
+					        jn->j, rate, o->gamma0[g]);
+				printf("%.10g\t%d\t%d\t%d\t%.12g\t%.10g\t%.10g\t%.12g\t%.12g", p->p0,
+				       jn->j, jn->a, jn->b, jn->l0, rate, o->gamma0[g], re, im);
+				if (o->dense)
+					dense_check(m, p, o, jn->j, rate, o->gamma0[g]);
+				putchar('\n');
+			}
+		}
+	}
+	if (nneg)
+		cli_warn("p0 %g: the passive state is not a minimum (%d negative hessian modes):"
+		         " no thresholds", p->p0, nneg);
+	free(sel);
+	stab_jn_free(jn);
+	stab_decomp_free(sd);
+	return nneg > 0;
+}
+
+int main(int argc, char **argv)
+{
+	cli_init("tis-stability", usage, argc, argv);
+	struct opts o = parse(argc, argv);
+	cli_catch_signals();
+	FILE *in = cli_open(o.input);
+	long line = 0;
+	mesh *m;
+	int nmesh = 0, unstable = 0;
+	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
+		model p = model_from_mesh(m);
+		if (o.has_p0)
+			p.p0 = o.p0;
+		if (o.has_ka)
+			p.ka = o.ka;
+		nmesh++;
+		unstable += analyse(m, &p, &o);
+		mesh_free(m);
+	}
+	if (in != stdin)
+		fclose(in);
+	free(o.rate);
+	free(o.gamma0);
+	if (cli_stop) {
+		fflush(stdout);
+		cli_die(EXIT_NOCONV, "interrupted: the table ends early");
+	}
+	if (nmesh == 0)
+		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
+	if (unstable) {
+		fflush(stdout);
+		cli_die(EXIT_INPUT, "%d of %d meshes had negative hessian modes", unstable, nmesh);
+	}
+	cli_finish();
+}
