@@ -56,7 +56,7 @@ MAN1 = $(wildcard man/*.1)
 MAN5 = $(wildcard man/*.5)
 MAN7 = $(wildcard man/*.7)
 
-.PHONY: all check bench demo deps install uninstall clean samples figures
+.PHONY: all check bench demo deps install uninstall clean samples figures studies
 
 all: $(LIB) $(PROGS)
 
@@ -116,6 +116,13 @@ samples: all
 figures: all
 	@./.ci/deps --quiet $(FIGDEBS)
 	PATH="$(CURDIR)/bin:$$PATH" ./bench/figures.sh
+	$(MAKE) -C studies figures
+
+# The paper's active-junction studies (studies/README.md): every study on
+# its small grid, minutes each on 2 cores; make -C studies NAME for one.
+studies: all
+	@./.ci/deps --quiet $(FIGDEBS) $(SWEEPDEBS)
+	$(MAKE) -C studies all
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \
