@@ -291,7 +291,9 @@ int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
 	double xt = 0;
 	for (int i = tail; i < n; i++)
 		xt = fmax(xt, fabs(l[i] - l0));
-	int decayed = xt <= 0.1 * amax;
+	/* settled: at rest by the end, at l0 or (floppy tissue, zero modes)
+	 * at a nearby length the rules above did not call a cusp */
+	int decayed = xt <= 0.1 * amax || drift <= 0.05 * amax;
 	/* Irregular oscillations that have not died down are kept up by
 	 * noise; irregular ones that have (passive modes beating with the
 	 * junction's at small amplitude) are judged like the rest. */

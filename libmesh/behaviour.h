@@ -21,7 +21,8 @@
  *     a full period runs from one upward change to the next, and its
  *     amplitude is (max - min)/2 of l over it.
  *     The trace has decayed when max |x| over its last tail_frac is at
- *     most 0.1 A.
+ *     most 0.1 A, or l moves over it by at most 0.05 A (settled near l0:
+ *     a floppy tissue's zero modes let it come to rest off l0).
  *     - with at least 3 full periods, over the last (at most 5) periods:
  *       the decay rate per period rho (the slope of log amplitude against
  *       period number) and the irregularity (the rms residual of that fit,

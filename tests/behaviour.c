@@ -44,7 +44,7 @@ static double gauss(void) { return sqrt(-2 * log(unif())) * cos(2 * PI * unif())
 
 int main(void)
 {
-	tap_plan(24);
+	tap_plan(25);
 	const double l0 = 0.62, dt = 0.1;
 	beh_result r;
 
@@ -108,6 +108,12 @@ int main(void)
 	r = run(N, "cusp");
 	is_kind(&r, BEH_CUSP, "condensation away from l0");
 	is_near(r.l_mean, 0.35, 1e-6, "cusp: mean length at the cusp");
+
+	/* at rest near l0, not at it (a floppy tissue's zero modes) */
+	for (int i = 0; i < N; i++)
+		l[i] = l0 - 1e-3 * (1 - exp(-t[i] / 50));
+	r = run(N, "settled");
+	is_kind(&r, BEH_STABLE, "settling 1e-3 below l0");
 
 	/* noise-driven oscillation: an OU-driven damped oscillator */
 	double x = 0, v = 0, w = 2 * PI / 40, g = 0.05;
