@@ -33,18 +33,10 @@ void stab_opts_init(stab_opts *o)
 
 int stab_fmax(const mesh *m, const model *p, double *fmax)
 {
-	energy_ws *ws = energy_ws_alloc(m);
-	double *g = malloc((2 * (size_t)m->nv + 1) * sizeof *g);
-	if (ws == NULL || g == NULL) {
-		energy_ws_free(ws);
-		free(g);
-		return MESH_ENOMEM;
-	}
-	mesh_energy(m, m->r, p, g, ws);
-	*fmax = grad_max_norm(m->nv, g);
-	energy_ws_free(ws);
-	free(g);
-	return MESH_OK;
+	mesh_stats st;
+	int rc = mesh_stats_compute(m, p, &st);
+	*fmax = st.fmax;
+	return rc;
 }
 
 static int check_balance(const mesh *m, const model *p, const stab_opts *o,
@@ -260,6 +252,8 @@ int stab_jn_modes(stab_jn *jn, double l0, int n, const double *d,
 
 double stab_jn_a1(const stab_jn *jn)
 {
+	if (jn->nneg > 0)
+		return NAN;
 	return jn->beta > 1e-10 || !(jn->a0 > 0) ? 0.0 : -2.0 / jn->a0;
 }
 
@@ -271,23 +265,31 @@ typedef struct {
 	double shift;   /* r - c (beta + wsum) */
 } secular;
 
-/* F(x) and its first two derivatives. */
-static double sec_real(const secular *s, double x, double *f1, double *f2)
+/* F(x) and its first three derivatives (f[0..3]). */
+static void sec_real(const secular *s, double x, double f[4])
 {
 	const double *d = s->jn->d, *w = s->jn->w;
-	double t = 0, t1 = 0, t2 = 0;
+	double t = 0, t1 = 0, t2 = 0, t3 = 0;
 	for (int i = 0; i < s->jn->k; i++) {
 		double q = 1.0 / (d[i] + x), wd = w[i] * d[i] * q;
 		t += wd;
 		wd *= q;
 		t1 += wd;
-		t2 += wd * q;
+		wd *= q;
+		t2 += wd;
+		t3 += wd * q;
 	}
-	if (f1)
-		*f1 = 1 - s->c * t1;
-	if (f2)
-		*f2 = 2 * s->c * t2;
-	return x + s->shift + s->c * t;
+	f[0] = x + s->shift + s->c * t;
+	f[1] = 1 - s->c * t1;
+	f[2] = 2 * s->c * t2;
+	f[3] = -6 * s->c * t3;
+}
+
+static double sec_f(const secular *s, double x, int which)
+{
+	double f[4];
+	sec_real(s, x, f);
+	return f[which];
 }
 
 static double complex sec_complex(const secular *s, double complex z, double complex *f1)
@@ -303,19 +305,18 @@ static double complex sec_complex(const secular *s, double complex z, double com
 	return z + s->shift + s->c * t;
 }
 
-/* A root of f in (lo, hi) with f(lo) < 0 < f(hi) when rising (else the
- * reverse), by Newton steps kept inside the bracket, bisecting when a step
- * leaves it or does not halve the bracket.  The ends are never evaluated
- * (they may be poles).  which = 0: F itself, 1: F'. */
+/* A root of the which-th derivative of F (0: F itself) in (lo, hi), where
+ * it rises from negative to positive (rising) or falls from positive to
+ * negative, by Newton steps kept inside the bracket, bisecting when a
+ * step leaves it or does not halve the bracket.  The ends are never
+ * evaluated (they may be poles). */
 static double bracket_root(const secular *s, int which, double lo, double hi, int rising)
 {
 	double x = 0.5 * (lo + hi), dxold = hi - lo;
 	for (int it = 0; it < 300; it++) {
-		double f1, f2, f = sec_real(s, x, &f1, &f2), df = f1;
-		if (which == 1) {
-			f = f1;
-			df = f2;
-		}
+		double f4[4];
+		sec_real(s, x, f4);
+		double f = f4[which], df = f4[which + 1];
 		if (f == 0)
 			return x;
 		if ((f < 0) == (rising != 0))
@@ -331,6 +332,24 @@ static double bracket_root(const secular *s, int which, double lo, double hi, in
 		x = xn;
 	}
 	return x;
+}
+
+/* The largest real root in (-d2, -d1) (k >= 2).  There F runs from +inf
+ * to -inf and F'' falls strictly (the d1 term grows towards -inf, the
+ * others shrink), so F' rises and then falls: F has one root, or a local
+ * minimum a and maximum b and up to three; the largest lies right of b
+ * when F(b) > 0, else left of a. */
+static double root_second_interval(const secular *s)
+{
+	double lo = -s->jn->d[1], hi = -s->jn->d[0];
+	double xi = bracket_root(s, 2, lo, hi, 0);
+	if (!(sec_f(s, xi, 1) > 0))
+		return bracket_root(s, 0, lo, hi, 0);
+	double b = bracket_root(s, 1, xi, hi, 0);
+	if (sec_f(s, b, 0) > 0)
+		return bracket_root(s, 0, b, hi, 0);
+	double a = bracket_root(s, 1, lo, xi, 1);
+	return bracket_root(s, 0, lo, a, 0);
 }
 
 /* Newton on F in the complex plane from z; 1 with the root in *z if it
@@ -371,11 +390,23 @@ int stab_leading(const stab_jn *jn, double rate, double gamma0,
 		return MESH_OK;
 	}
 	const double d1 = jn->d[0];
+	if (jn->k == 1) {
+		/* (lambda + shift)(lambda + d1) + c w1 d1 = 0 */
+		double B = s.shift + d1, C = d1 * (s.shift + c * jn->w[0]), disc = B * B - 4 * C;
+		if (disc < 0) {
+			*re = -0.5 * B;
+			*im = 0.5 * sqrt(-disc);
+		} else
+			*re = B > 0 ? -2 * C / (B + sqrt(disc)) : 0.5 * (sqrt(disc) - B);
+		return MESH_OK;
+	}
 	/* F is convex on (-d1, inf): its minimum decides whether two real
 	 * roots lie there (then the larger leads and there is no pair). */
 	double hi = c * (jn->beta + jn->wsum) / 2;
 	double xm = bracket_root(&s, 1, -d1, hi > -d1 ? hi : 0, 1);
-	double f2, fm = sec_real(&s, xm, NULL, &f2);
+	double f4[4];
+	sec_real(&s, xm, f4);
+	double fm = f4[0], f2 = f4[2];
 	if (fm <= 0) {
 		double top = fmax(-s.shift, xm);
 		*re = fm == 0 ? xm : bracket_root(&s, 0, xm, top + 1e-300, 1);
@@ -404,7 +435,7 @@ int stab_leading(const stab_jn *jn, double rate, double gamma0,
 	 * poles (F runs from +inf to -inf there), or the pair. */
 	double x1 = NAN;
 	if (jn->k >= 2)
-		x1 = bracket_root(&s, 0, -jn->d[1], -d1, 0);
+		x1 = root_second_interval(&s);
 	if (found && !(x1 > creal(z))) {
 		*re = creal(z);
 		*im = cimag(z);

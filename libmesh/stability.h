@@ -137,7 +137,7 @@ typedef struct {
 int stab_critical(const stab_jn *jn, double rate, stab_crit *c);
 
 /* The exact linear response a1 = -2/(g^T H^+ g) of tis-forcelen --linear
- * (0 for a floppy junction, beta > 1e-10). */
+ * (0 for a floppy junction, beta > 1e-10; NAN with negative modes). */
 double stab_jn_a1(const stab_jn *jn);
 
 /* The dense cross-checks.  Both build the Jacobian from the mesh (the

@@ -101,6 +101,37 @@ static double reduced_vs_dense(const mesh *m, const model *p, const int *js, int
 	return worst;
 }
 
+/* The same over a log grid of (rate, gamma0), 3e-3 to 30 and 3e-3 to 20
+ * (36 points), for junction j: it reaches the branches where the leader
+ * lies left of the softest pole and where three real roots share an
+ * interval. */
+static double grid_vs_dense(const mesh *m, const model *p, int j, int *npts)
+{
+	stab_decomp *sd = decomp(m, p);
+	int n;
+	stab_decomp_eigenvalues(sd, &n);
+	stab_jn *jn = stab_jn_alloc(n);
+	stab_jn_set(sd, m, j, jn);
+	stab_opts o;
+	stab_opts_init(&o);
+	double worst = 0;
+	*npts = 0;
+	for (double r = 0.003; r < 30; r *= 5)
+		for (double g = 0.003; g < 20; g *= 5) {
+			double re, im, dre, dim;
+			mesh_error err;
+			int s1 = stab_leading(jn, r, g, &re, &im);
+			int s2 = stab_dense_leading(m, p, &o, j, r, g, &dre, &dim, &err);
+			double e = s1 || s2 ? INFINITY : fmax(fabs(re - dre), fabs(im - dim));
+			if (!(e <= worst))
+				worst = e;
+			++*npts;
+		}
+	stab_jn_free(jn);
+	stab_decomp_free(sd);
+	return worst;
+}
+
 /* The model's right-hand side at (r, dg) for the active junctions sel
  * (DESIGN.md): dr/dt = -grad (W + sum dg l), d(dg)/dt = -dg rate -
  * (gamma0 + dg) (dl/dt)/l.  out: 2 nv + nt values. */
@@ -232,10 +263,15 @@ static int vertical(const mesh *m)
 	return -1;
 }
 
+/* OpenBLAS's own call: threads that wait for a busy core spin, which
+ * costs more than they gain at these sizes (bench/RESULTS.md). */
+void openblas_set_num_threads(int n);
+
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(32);
+	openblas_set_num_threads(1);
+	tap_plan(34);
 	mesh_error err;
 	model p = { 3.65, 100 };
 	int nc;
@@ -262,6 +298,10 @@ int main(void)
 	int jsv[] = { 0, 17, 44 };
 	e = reduced_vs_dense(v, &pv, jsv, 3, 8, &nc);
 	ok(e <= 1e-9, "relaxed Voronoi tissue: the same (24 points, %d complex; worst %.2g)", nc, e);
+
+	int ng;
+	e = grid_vs_dense(v, &pv, 111 % v->nj, &ng);
+	ok(e <= 1e-9, "relaxed Voronoi tissue, %d grid points: the same (worst %.2g)", ng, e);
 
 	/* 2. the dense Jacobians are the model's: central differences */
 	{
@@ -310,19 +350,26 @@ int main(void)
 	stab_leading(jn, 0.1, c.g0star * (1 + 1e-6), &re2, &im2);
 	ok(re < 0 && re2 > 0 && fabs(im - c.omega) < 1e-5 * c.omega,
 	   "the leading pair crosses there, at the frequency omega %.6f (%.3g, %.3g)", c.omega, re, re2);
-	stab_opts so;
-	stab_opts_init(&so);
-	so.solver = STAB_GSL;
-	stab_decomp *sdg;
-	stab_decomp_alloc(h18, &p, &so, &sdg, &err);
-	stab_jn *jg = stab_jn_alloc(n18);
-	stab_jn_set(sdg, h18, vertical(h18), jg);
-	stab_crit cg;
-	stab_critical(jg, 0.1, &cg);
-	ok(fabs(cg.g0star - c.g0star) < 1e-9 * c.g0star,
-	   "GSL's decomposition gives the same g0* (%.3g apart)", fabs(cg.g0star - c.g0star));
-	stab_jn_free(jg);
-	stab_decomp_free(sdg);
+	{
+		stab_opts so;
+		stab_opts_init(&so);
+		so.solver = STAB_GSL;
+		stab_decomp *sdg, *sdl = decomp(h12, &p);
+		stab_decomp_alloc(h12, &p, &so, &sdg, &err);
+		stab_jn *jg = stab_jn_alloc(2 * h12->nv), *jl = stab_jn_alloc(2 * h12->nv);
+		stab_jn_set(sdg, h12, 5, jg);
+		stab_jn_set(sdl, h12, 5, jl);
+		stab_crit cg, cl;
+		stab_critical(jg, 0.1, &cg);
+		stab_critical(jl, 0.1, &cl);
+		ok(fabs(cg.g0star - cl.g0star) < 1e-9 * cl.g0star,
+		   "12x12: GSL's decomposition gives LAPACK's g0* (%.3g apart)",
+		   fabs(cg.g0star - cl.g0star));
+		stab_jn_free(jg);
+		stab_jn_free(jl);
+		stab_decomp_free(sdg);
+		stab_decomp_free(sdl);
+	}
 
 	/* 4. rigid honeycomb: every crossing is Hopf, g0* >= l0 rate / 2 */
 	{
@@ -404,6 +451,9 @@ int main(void)
 			}
 		}
 		ok(bmax > 0.1, "a junction with zero-mode weight beta %.3g", bmax);
+		e = grid_vs_dense(fl, &pf, best < 0 ? 0 : best, &ng);
+		ok(e <= 1e-9, "floppy tissue, that junction, %d grid points: secular = dense J "
+		   "(zero modes as exact zeros; worst %.2g)", ng, e);
 		if (best >= 0) {
 			stab_jn_set(sd, fl, best, q);
 			double r = 0.5 * q->beta / q->a0;

@@ -265,3 +265,11 @@ int cli_junction(const mesh *m, long a, long b)
 		cli_die(EXIT_INPUT, "--junction %ld %ld: no junction joins these vertices", a, b);
 	return j;
 }
+
+void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b)
+{
+	*a = cli_long(opt, optarg, 0, 2000000000);
+	if (optind >= argc)
+		cli_usage_error("option '%s' needs two vertex ids", opt);
+	*b = cli_long(opt, argv[optind++], 0, 2000000000);
+}

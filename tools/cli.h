@@ -44,6 +44,10 @@ long cli_long(const char *opt, const char *arg, long lo, long hi);
  * otherwise. */
 double *cli_double_list(const char *opt, const char *arg, int *n);
 
+/* The two vertex ids of an option like --junction A B inside a getopt_long
+ * loop: A is optarg, B the next argument (optind moves past it). */
+void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b);
+
 /* The junction joining vertices a and b of m; exit 1 naming --junction if
  * there is none. */
 int cli_junction(const mesh *m, long a, long b);

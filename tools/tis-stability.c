@@ -46,6 +46,9 @@ static const char help[] =
 
 enum { SEL_ALL, SEL_PAIR, SEL_INDEX, SEL_LIST };
 
+/* OpenBLAS's own call (the library is linked by name). */
+void openblas_set_num_threads(int n);
+
 struct opts {
 	int sel, nsel;
 	long va, vb, index;
@@ -107,10 +110,7 @@ static struct opts parse(int argc, char **argv)
 		switch (c) {
 		case O_JUNCTION:
 			set_sel(&o, SEL_PAIR);
-			o.va = cli_long("--junction", optarg, 0, 2000000000);
-			if (optind >= argc)
-				cli_usage_error("option '--junction' needs two vertex ids");
-			o.vb = cli_long("--junction", argv[optind++], 0, 2000000000);
+			cli_vertex_pair("--junction", argc, argv, &o.va, &o.vb);
 			break;
 		case O_INDEX:
 			set_sel(&o, SEL_INDEX);
@@ -164,45 +164,19 @@ static struct opts parse(int argc, char **argv)
 	return o;
 }
 
-/* Junctions of --list FILE: "K" or "A B" per line. */
 static int *read_list(const char *path, const mesh *m, int *count)
 {
 	FILE *f = fopen(path, "r");
 	if (f == NULL)
 		cli_die(EXIT_INPUT, "--list %s: cannot open it", path);
-	int n = 0, cap = 16;
-	int *sel = malloc((size_t)cap * sizeof *sel);
-	char buf[256];
-	long line = 0;
-	while (sel && fgets(buf, sizeof buf, f)) {
-		line++;
-		char *h = strchr(buf, '#');
-		if (h)
-			*h = '\0';
-		long a, b;
-		char extra;
-		int got = sscanf(buf, "%ld %ld %c", &a, &b, &extra);
-		if (got <= 0)
-			continue;   /* blank or comment */
-		int j = -1;
-		if (got == 1 && a >= 0 && a < m->nj)
-			j = (int)a;
-		else if (got == 2 && a >= 0 && b >= 0)
-			j = cli_junction(m, a, b);
-		else
-			cli_die(EXIT_INPUT, "--list %s:%ld: not a junction of the mesh (%d junctions)",
-			        path, line, m->nj);
-		if (n == cap)
-			sel = realloc(sel, (size_t)(cap *= 2) * sizeof *sel);
-		if (sel)
-			sel[n++] = j;
-	}
+	int *sel;
+	mesh_error err;
+	int st = mesh_junctions_read(f, m, &sel, count, &err);
 	fclose(f);
-	if (sel == NULL)
-		cli_die(EXIT_INPUT, "out of memory");
-	if (n == 0)
-		cli_die(EXIT_INPUT, "--list %s: no junctions in it", path);
-	*count = n;
+	if (st != MESH_OK && err.line > 0)
+		cli_die(EXIT_INPUT, "--list %s:%ld: %s", path, err.line, err.msg);
+	if (st != MESH_OK)
+		cli_die(EXIT_INPUT, "--list %s: %s", path, err.msg);
 	return sel;
 }
 
@@ -257,7 +231,7 @@ static void dense_check(const mesh *m, const model *p, const struct opts *o, int
 	printf("\t%.12g\t%.12g", re, im);
 }
 
-/* Every row of one mesh; 1 if the passive state has negative modes. */
+/* Every row of one mesh; the number of negative Hessian modes. */
 static int analyse(const mesh *m, const model *p, const struct opts *o)
 {
 	if (o->network) {
@@ -316,24 +290,26 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 			}
 		}
 	}
-	if (nneg)
-		cli_warn("p0 %g: the passive state is not a minimum (%d negative hessian modes):"
-		         " no thresholds", p->p0, nneg);
 	free(sel);
 	stab_jn_free(jn);
 	stab_decomp_free(sd);
-	return nneg > 0;
+	return nneg;
 }
 
 int main(int argc, char **argv)
 {
 	cli_init("tis-stability", usage, argc, argv);
 	struct opts o = parse(argc, argv);
+	/* one BLAS thread unless asked: measured as fast at these sizes on a
+	 * shared machine, where waiting threads spin (bench/RESULTS.md) */
+	if (getenv("OPENBLAS_NUM_THREADS") == NULL)
+		openblas_set_num_threads(1);
 	cli_catch_signals();
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;
-	int nmesh = 0, unstable = 0;
+	int nmesh = 0, unstable = 0, nneg = 0;
+	double p0neg = 0;
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		model p = model_from_mesh(m);
 		if (o.has_p0)
@@ -341,7 +317,11 @@ int main(int argc, char **argv)
 		if (o.has_ka)
 			p.ka = o.ka;
 		nmesh++;
-		unstable += analyse(m, &p, &o);
+		int k = analyse(m, &p, &o);
+		if (k > 0 && unstable++ == 0) {
+			nneg = k;
+			p0neg = p.p0;
+		}
 		mesh_free(m);
 	}
 	if (in != stdin)
@@ -356,7 +336,8 @@ int main(int argc, char **argv)
 		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
 	if (unstable) {
 		fflush(stdout);
-		cli_die(EXIT_INPUT, "%d of %d meshes had negative hessian modes", unstable, nmesh);
+		cli_die(EXIT_INPUT, "%d of %d meshes not at a minimum (first: p0 %g, %d negative "
+		        "hessian modes): kind unstable, no thresholds", unstable, nmesh, p0neg, nneg);
 	}
 	cli_finish();
 }

@@ -1,0 +1,87 @@
+#!/bin/sh
+# tis-stability on real pipes: the table's columns, the 18x18 threshold,
+# junction selection (--junction, --index, --list) naming the same rows,
+# --tau against --rate, ranges, a stream of meshes, the dense cross-check
+# at g0* and on eigenvalue rows of a relaxed Voronoi tissue, the network at
+# gamma0 = 0, negative modes, and bad input.
+. "$(dirname "$0")/lib.sh"
+plan 28
+
+tis-hex 18 18 --p0 3.65 >"$T/h18.mesh"
+tis-hex 6 6 --p0 3.65 >"$T/h6.mesh"
+cols=$(printf 'p0\tj\ta\tb\tl0\trate\tg0star\tomega\tkind\tg0cg\tbeta\ta1')
+tis-stability --index 2 --rate 0.1 "$T/h18.mesh" >"$T/c.tsv"
+ok "threshold table: # provenance, then the plain column names" \
+	test "$(grep -v '^#' "$T/c.tsv" | head -1)" = "$cols"
+row() { grep -v '^#' "$1" | awk -F'\t' -v k="$2" 'NR > 1 && NR - 1 == k'; }
+col() { grep -v '^#' "$1" | awk -F'\t' -v c="$2" -v k="${3:-1}" '
+	NR == 1 { for (i = 1; i <= NF; i++) if ($i == c) n = i } NR - 1 == k { print $n }'; }
+ok "18x18 vertical junction at rate 0.1: g0* = 0.38159 (0.1%)" \
+	near "$(col "$T/c.tsv" g0star)" 0.38159 0.00038
+ok "a hopf crossing above the coarse-grained value" \
+	test "$(col "$T/c.tsv" kind)" = hopf -a "$(awk "BEGIN { print ($(col "$T/c.tsv" g0star) > $(col "$T/c.tsv" g0cg)) }")" = 1
+ab=$(row "$T/c.tsv" 1 | cut -f3,4 | tr '\t' ' ')
+tis-stability --junction $ab --rate 0.1 "$T/h18.mesh" | grep -v '^#' >"$T/p.tsv"
+ok "--junction A B names the same row as --index" \
+	test "$(tail -1 "$T/p.tsv")" = "$(row "$T/c.tsv" 1)"
+tis-stability --index 2 --tau 10 "$T/h18.mesh" | grep -v '^#' >"$T/t.tsv"
+ok "--tau 10 = --rate 0.1" test "$(tail -1 "$T/t.tsv")" = "$(row "$T/c.tsv" 1)"
+printf '# two junctions\n2\n%s\n\n' "$ab" >"$T/list"
+ok "--list: one row per line, K or A B" \
+	test "$(tis-stability --list "$T/list" --rate 0.1 "$T/h18.mesh" | grep -v '^#' | awk 'NR > 1' | sort -u | wc -l)" = 1
+ok "--list: two rows" test "$(tis-stability --list "$T/list" --rate 0.1 "$T/h18.mesh" | grep -v '^#' | awk 'NR > 1' | wc -l)" = 2
+
+tis-stability --index 0 --rate 0.025:0.5:50 --gamma0 0:2:50 "$T/h6.mesh" >"$T/d.tsv"
+ok "eigenvalue table columns" test "$(grep -v '^#' "$T/d.tsv" | head -1)" = \
+	"$(printf 'p0\tj\ta\tb\tl0\trate\tgamma0\tre\tim')"
+ok "50 x 50 rows, both range ends included" sh -c "
+	test \$(grep -v '^#' '$T/d.tsv' | awk 'NR > 1' | wc -l) = 2500 &&
+	grep -v '^#' '$T/d.tsv' | awk -F'\t' 'NR == 2 { exit !(\$6 == 0.025 && \$7 == 0) }' &&
+	grep -v '^#' '$T/d.tsv' | tail -1 | awk -F'\t' '{ exit !(\$6 == 0.5 && \$7 == 2) }'"
+ok "at gamma0 0 the tension mode decays at the rate" \
+	awk -F'\t' '$1 !~ /^#/ && $7 == "0" && ($8 + $6 > 1e-9 || $8 + $6 < -1e-9) { exit 1 }' "$T/d.tsv"
+
+# Every mesh of a stream: one row per mesh and rate.
+{ tis-hex 6 6 --p0 3.6; tis-hex 6 6 --p0 3.65; } | tis-stability --index 0 --rate 0.1,0.2 >"$T/s.tsv"
+ok "a stream of two meshes: 4 rows, both p0, one header" sh -c "
+	test \$(grep -v '^#' '$T/s.tsv' | awk 'NR > 1' | wc -l) = 4 &&
+	test \"\$(grep -v '^#' '$T/s.tsv' | cut -f1 | sort -u | tr '\n' ' ')\" = '3.6 3.65 p0 ' &&
+	test \$(grep -vc '^#' '$T/s.tsv') = 5"
+
+# The dense Jacobian at g0*: its leading eigenvalue is on the imaginary axis.
+tis-stability --index 1 --rate 0.3 --dense "$T/h6.mesh" >"$T/dn.tsv"
+ok "--dense at g0*: Re of the dense J's leading eigenvalue is 0 (1e-9)" \
+	near "$(col "$T/dn.tsv" dense_re)" 0 1e-9
+ok "and its Im is omega" near "$(col "$T/dn.tsv" dense_im)" "$(col "$T/dn.tsv" omega)" 1e-9
+tis-voronoi --seed 4 --lloyd 3 --p0 3.7 40 | tis-relax --quiet --strict --ftol 1e-12 >"$T/v.mesh"
+tis-stability --index 7 --rate 0.05,0.4 --gamma0 0.1,0.6,1.5 --dense "$T/v.mesh" >"$T/vd.tsv"
+ok "relaxed Voronoi tissue: secular = dense J on 6 points (1e-9)" awk -F'\t' '
+	$1 !~ /^#/ && NR > 1 && $1 != "p0" { n++; d = $8 - $10; e = $9 - $11;
+	  if (d < 0) d = -d; if (e < 0) e = -e; if (d > 1e-9 || e > 1e-9) exit 1 }
+	END { exit n != 6 }' "$T/vd.tsv"
+ok "--network at gamma0 0: leading -rate" \
+	near "$(tis-stability --network --rate 0.3 --gamma0 0 "$T/h6.mesh" | col - re)" -0.3 1e-9
+
+# Negative modes: rows say unstable, no threshold, exit 1.
+tis-hex 6 6 --p0 3.8 >"$T/sad.mesh"
+fails_with 1 "honeycomb above p_hex (a saddle): one line, exit 1" \
+	tis-stability --index 0 --rate 0.1 "$T/sad.mesh"
+ok "and its row says unstable, g0star nan" \
+	test "$(col "$T/out" kind) $(col "$T/out" g0star)" = "unstable nan"
+
+# Bad input.
+fails_with 1 "--junction that does not exist" tis-stability --junction 0 5 --rate 0.1 "$T/h6.mesh"
+fails_with 1 "--index past the last junction" tis-stability --index 108 --rate 0.1 "$T/h6.mesh"
+printf '2\n0 99999\n' >"$T/badlist"
+fails_with 1 "--list naming a junction that does not exist" \
+	tis-stability --list "$T/badlist" --rate 0.1 "$T/h6.mesh"
+fails_with 2 "--tau 0" tis-stability --tau 0 "$T/h6.mesh"
+fails_with 2 "rate 0" tis-stability --rate 0 "$T/h6.mesh"
+fails_with 2 "a negative rate in a list" tis-stability --rate 0.1,-1 "$T/h6.mesh"
+fails_with 2 "rate nan" tis-stability --rate nan "$T/h6.mesh"
+awk 'NR == 6 { $1 = $1 + 0.01 } { print }' "$T/h6.mesh" >"$T/off.mesh"
+fails_with 1 "a mesh far from force balance" tis-stability --rate 0.1 "$T/off.mesh"
+ok "and no output" test ! -s "$T/out"
+fails_with 1 "an empty stream" sh -c ': | tis-stability --rate 0.1'
+fails_with 2 "--network without --gamma0" tis-stability --network --rate 0.1 "$T/h6.mesh"
+done_testing
