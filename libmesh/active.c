@@ -11,7 +11,7 @@
 void act_opts_init(act_opts *o)
 {
 	*o = (act_opts){ .scheme = ACT_BDF, .tau = 1, .gamma0 = 0, .sigma = 0,
-			 .rtol = 1e-6, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
+			 .rtol = 1e-9, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
 			 .t1_new = 1e-3, .l_collapse = 1e-3 };
 }
 
@@ -68,6 +68,43 @@ static void euler_t1(void *data, const dyn *d, int j, const int lose[2], const i
 		a->hook(a->hook_data, c.t, j, lose, gain, lbefore);
 }
 
+/* A fresh Euler integrator (dynamics.c) at the current state, time and
+ * noise stream. */
+static int euler_dyn(act *a, mesh_error *err)
+{
+	const act_opts *o = &a->o;
+	char rng[OU_STATE_LEN] = "";
+	if (a->d) {
+		dyn_rng_get(a->d, rng, sizeof rng);
+		dyn_free(a->d);
+		a->d = NULL;
+	}
+	dyn_opts d;
+	dyn_opts_init(&d);
+	d.mode = DYN_FEEDBACK;
+	d.dt_max = o->dt_max;
+	d.dr_max = o->dr_max;
+	d.t1_length = o->t1_length;
+	d.t1_new = o->t1_new;
+	d.tau = o->tau;
+	d.sigma = o->sigma;
+	d.gamma0 = o->gamma0;
+	/* the collapse of an active junction is found by the observer; this
+	 * only keeps a passive one from passing through zero */
+	d.l_stop = 1e-12;
+	int st = dyn_alloc(a->m, &a->p, &d, a->seed, &a->d, err);
+	if (st != MESH_OK)
+		return st;
+	if ((a->na < a->m->nj && dyn_set_active(a->d, a->active) != MESH_OK) ||
+	    (rng[0] && dyn_rng_set(a->d, rng) != MESH_OK))
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	dyn_set_time(a->d, a->t);
+	dyn_set_t1_hook(a->d, euler_t1, a);
+	a->nt1_base = a->c.nt1;
+	a->refused_base = a->c.nt1_refused;
+	return MESH_OK;
+}
+
 int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *active,
               double t0, unsigned long seed, act **out, mesh_error *err)
 {
@@ -103,32 +140,16 @@ int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *a
 			m->dg[j] = 0;
 	}
 	if (o->scheme == ACT_EULER) {
-		dyn_opts d;
-		dyn_opts_init(&d);
-		d.mode = DYN_FEEDBACK;
-		d.dt_max = o->dt_max;
-		d.dr_max = o->dr_max;
-		d.t1_length = o->t1_length;
-		d.t1_new = o->t1_new;
-		d.tau = o->tau;
-		d.sigma = o->sigma;
-		d.gamma0 = o->gamma0;
-		/* the collapse of an active junction is found by the observer;
-		 * this only keeps a passive one from passing through zero */
-		d.l_stop = 1e-12;
 		a->snap_r = malloc(2 * (size_t)m->nv * sizeof *a->snap_r);
 		a->snap_dg = malloc(nj * sizeof *a->snap_dg);
 		a->jprev = malloc(2 * nj * sizeof *a->jprev);
 		if (!a->snap_r || !a->snap_dg || !a->jprev)
 			goto nomem;
-		if ((st = dyn_alloc(m, p, &d, seed, &a->d, err)) != MESH_OK) {
+		a->seed = seed;
+		if ((st = euler_dyn(a, err)) != MESH_OK) {
 			act_free(a);
 			return st;
 		}
-		if (active && dyn_set_active(a->d, a->active) != MESH_OK)
-			goto nomem;
-		dyn_set_time(a->d, t0);
-		dyn_set_t1_hook(a->d, euler_t1, a);
 	} else if ((st = bdf_alloc(a, err)) != MESH_OK) {
 		act_free(a);
 		return st;
@@ -263,8 +284,7 @@ static void snapshot(act *a)
 {
 	const mesh *m = a->m;
 	memcpy(a->snap_r, m->r, 2 * (size_t)m->nv * sizeof *m->r);
-	for (int k = 0; k < a->na; k++)
-		a->snap_dg[k] = m->dg[a->aj[k]];
+	memcpy(a->snap_dg, m->dg, (size_t)m->nj * sizeof *m->dg);
 	a->snap_t = a->t;
 	a->snap_nt1 = a->c.nt1;
 }
@@ -277,16 +297,15 @@ static int restore(act *a)
 	if (a->snap_nt1 != a->c.nt1)
 		return 0;
 	memcpy(m->r, a->snap_r, 2 * (size_t)m->nv * sizeof *m->r);
-	for (int k = 0; k < a->na; k++)
-		m->dg[a->aj[k]] = a->snap_dg[k];
+	memcpy(m->dg, a->snap_dg, (size_t)m->nj * sizeof *m->dg);
 	a->t = a->snap_t;
 	return 1;
 }
 
 /* Move every vertex back into the box when one has left it.  The written
- * mesh holds wrapped coordinates, so a run that keeps them wrapped all
- * along computes what a run continued from that mesh computes, bit for
- * bit. */
+ * mesh holds wrapped coordinates; a run that wraps them at every
+ * checkpoint (where a stopped run writes its mesh) computes what a run
+ * continued from that mesh computes, bit for bit. */
 static void keep_wrapped(mesh *m)
 {
 	for (int v = 0; v < m->nv; v++) {
@@ -308,8 +327,10 @@ static int euler_obs(dyn *d, void *data)
 	a->t = c.t;
 	a->c.nstep++;
 	a->c.nfev++;
-	a->c.nt1 = c.nt1;
-	a->c.nt1_refused = c.nt1_refused;
+	/* the integrator is made again after T1s (canonical): its counts
+	 * start from zero */
+	a->c.nt1 = a->nt1_base + c.nt1;
+	a->c.nt1_refused = a->refused_base + c.nt1_refused;
 	if (a->o.t1_length == 0) {
 		/* the collapse event: the first step at which an active junction
 		 * is shorter than l_collapse; if that step carried it through
@@ -329,7 +350,6 @@ static int euler_obs(dyn *d, void *data)
 			a->jprev[2 * k + 1] = v[1];
 		}
 	}
-	keep_wrapped(m);
 	snapshot(a);
 	a->have_prev = 1;
 	if (a->obs && a->obs(a, a->obs_data)) {
@@ -339,6 +359,47 @@ static int euler_obs(dyn *d, void *data)
 	return 0;
 }
 
+/* Renumber the junctions as reading the written mesh would (mesh_build
+ * from the cells), so that a run continued from that mesh has the same
+ * junction numbers, and so the same noise per junction and the same T1
+ * order; the active set and tensions follow their vertex pairs. */
+static int canonical(act *a, mesh_error *err)
+{
+	mesh *m = a->m;
+	int *pairs = malloc(2 * (size_t)(a->na ? a->na : 1) * sizeof *pairs);
+	if (pairs == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	for (int k = 0; k < a->na; k++) {
+		pairs[2 * k] = m->jv[2 * a->aj[k]];
+		pairs[2 * k + 1] = m->jv[2 * a->aj[k] + 1];
+	}
+	mesh_error e2;
+	int st = mesh_build(m, NULL, &e2);
+	if (st != MESH_OK) {
+		free(pairs);
+		return mesh_error_set(err, 0, st, "rebuilding the mesh after T1s: %s", e2.msg);
+	}
+	if (mesh_tension_alloc(m) != MESH_OK) {
+		free(pairs);
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
+	memset(a->active, 0, (size_t)m->nj);
+	for (int k = 0; k < a->na; k++)
+		a->active[mesh_junction_find(m, pairs[2 * k], pairs[2 * k + 1])] = 1;
+	free(pairs);
+	a->na = 0;
+	for (int j = 0; j < m->nj; j++)
+		if (a->active[j])
+			a->aj[a->na++] = j;
+	return euler_dyn(a, err);
+}
+
+/* The Euler run goes in segments that end at multiples of ACT_CHECKPOINT
+ * (the last step of each shortened to land there).  A stop request is
+ * honoured at the next one, and with T1s on each begins with the junction
+ * numbers of a freshly read mesh and a fresh integrator: what a run
+ * continued from the mesh written there does, so that it goes on bit for
+ * bit as the uninterrupted run. */
 static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
                      mesh_error *err)
 {
@@ -351,22 +412,35 @@ static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end 
 			act_jvec(m, m->r, a->aj[k], a->jprev + 2 * k);
 		a->have_prev = 1;
 	}
-	mesh_error e2;
-	int st = dyn_run(a->d, t_end, stop, euler_obs, a, &e2);
-	if (st == MESH_ENOMEM)
-		return mesh_error_set(err, 0, st, "out of memory");
-	if (st != MESH_OK) {
-		/* non-finite forces (the state before the step is finite in r,
-		 * but its tensions may not be) or a passive junction collapsed */
-		if (state_finite(a) && strstr(e2.msg, "collapsed")) {
-			a->why = ACT_END_COLLAPSE;
-		} else {
-			restore(a);
-			a->why = ACT_END_NONFINITE;
-			mesh_error_set(err, 0, MESH_EDOM, "%s", e2.msg);
+	while (a->t < t_end) {
+		double seg = (floor(a->t / ACT_CHECKPOINT) + 1) * ACT_CHECKPOINT;
+		long nt1 = a->c.nt1;
+		mesh_error e2;
+		int st = dyn_run(a->d, seg < t_end ? seg : t_end, NULL, euler_obs, a, &e2);
+		if (st == MESH_ENOMEM)
+			return mesh_error_set(err, 0, st, "out of memory");
+		if (st != MESH_OK) {
+			/* non-finite forces (the state before the step is finite
+			 * in r, but its tensions may not be) or a passive
+			 * junction collapsed */
+			if (state_finite(a) && strstr(e2.msg, "collapsed")) {
+				a->why = ACT_END_COLLAPSE;
+			} else {
+				restore(a);
+				a->why = ACT_END_NONFINITE;
+				mesh_error_set(err, 0, MESH_EDOM, "%s", e2.msg);
+			}
+			break;
 		}
-	} else if (a->why == ACT_END_TIME && stop && *stop) {
-		a->why = ACT_END_STOP;
+		if (a->why != ACT_END_TIME)
+			break;
+		keep_wrapped(m);
+		if (a->c.nt1 != nt1 && (st = canonical(a, err)) != MESH_OK)
+			return st;
+		if (stop && *stop && a->t < t_end) {
+			a->why = ACT_END_STOP;
+			break;
+		}
 	}
 	*why = a->why;
 	return MESH_OK;

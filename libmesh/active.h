@@ -41,6 +41,10 @@
 
 typedef enum { ACT_EULER, ACT_BDF } act_scheme;
 
+/* Euler runs stop (SIGTERM) and renumber after T1s only at multiples of
+ * this time (active.c). */
+#define ACT_CHECKPOINT 1.0
+
 /* BDF absolute tolerance per unit of rtol (lengths in sqrt(A0)). */
 #define ACT_ATOL_FACTOR 1e-2
 
@@ -49,7 +53,7 @@ typedef struct {
 	double tau;         /* tau_m = 1/rate (1) */
 	double gamma0;      /* ambient tension (0) */
 	double sigma;       /* noise: long-time s.d. of dg (0; Euler only) */
-	double rtol;        /* BDF relative tolerance (1e-6) */
+	double rtol;        /* BDF relative tolerance (1e-9) */
 	double dt_max;      /* Euler: longest step (1e-3) */
 	double dr_max;      /* Euler: largest vertex move per step (1e-3) */
 	double t1_length;   /* T1 threshold (0: topology fixed) */

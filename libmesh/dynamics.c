@@ -187,18 +187,6 @@ double dyn_energy(dyn *d)
 	return mesh_energy(d->m, d->m->r, &d->p, NULL, d->ws);
 }
 
-/* Junction vectors and lengths at the mesh's coordinates; the smallest
- * length. */
-static double lengths(dyn *d)
-{
-	mesh_junction_vectors(d->m, d->m->r, d->jd);
-	double lmin = INFINITY;
-	for (int j = 0; j < d->m->nj; j++)
-		if (d->jd[3 * j + 2] < lmin)
-			lmin = d->jd[3 * j + 2];
-	return lmin;
-}
-
 /* Squared length of junction j: the one expression every T1 test uses,
  * so that a length computed in any pass is the same number. */
 static inline double jlen2(const mesh *m, const double *r, int j)
@@ -413,7 +401,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	if (o.sigma > 0 && d->noise == NULL && (d->noise = ou_alloc(d->seed)) == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	double *restrict f = d->f, *restrict jd = d->jd, *restrict r = m->r;
+	double *restrict f = d->f, *restrict r = m->r;
 	const double thr2 = o.t1_length * o.t1_length;
 	d->have_dprev = 0;
 	/* the options may have changed since the last run */
@@ -485,17 +473,20 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		}
 		if (feedback) {
 			/* dl/dt = e.(F_b - F_a) with F = -f; the increment is applied
-			 * after the exact OU step */
-			lengths(d);
+			 * after the exact OU step.  The junction vectors are the
+			 * energy's, at these coordinates. */
+			const double *wj = energy_ws_vectors(d->ws);
 			const unsigned char *act = d->active;
 			for (int j = 0; j < nj; j++) {
 				if (act && !act[j])
 					continue;
 				int a = m->jv[2 * j], b = m->jv[2 * j + 1];
-				double l = jd[3 * j + 2];
-				double ldot = -(jd[3 * j] * (f[2 * b] - f[2 * a]) +
-						jd[3 * j + 1] * (f[2 * b + 1] - f[2 * a + 1])) / l;
-				d->ldot[j] = -dt * (o.gamma0 + dg[j]) * ldot / l;
+				/* -dt (gamma0 + dg) (dl/dt)/l with dl/dt = -d.(f_b - f_a)/l:
+				 * one division */
+				double l = wj[3 * j + 2];
+				double dot = wj[3 * j] * (f[2 * b] - f[2 * a]) +
+					     wj[3 * j + 1] * (f[2 * b + 1] - f[2 * a + 1]);
+				d->ldot[j] = dt * (o.gamma0 + dg[j]) * dot / (l * l);
 			}
 		}
 		v2d *rv = (v2d *)r;

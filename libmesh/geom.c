@@ -141,6 +141,11 @@ double mesh_cell_factors(const mesh *m, const double *r, const model *p,
 	return W;
 }
 
+const double *energy_ws_vectors(const energy_ws *w)
+{
+	return w->jd;
+}
+
 double mesh_energy_tension(const mesh *m, const double *r, const model *p,
                            const double *dg, double *grad, energy_ws *w)
 {

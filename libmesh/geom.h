@@ -56,6 +56,11 @@ double mesh_energy(const mesh *m, const double *r, const model *p,
 double mesh_energy_tension(const mesh *m, const double *r, const model *p,
                            const double *dg, double *grad, energy_ws *w);
 
+/* The junction vectors and lengths (jd as mesh_junction_vectors gives
+ * them, 3 per junction) of w's last energy evaluation: code that needs
+ * them at the same coordinates does not compute them again. */
+const double *energy_ws_vectors(const energy_ws *w);
+
 /* Largest |grad_i| over vertices of a gradient vector. */
 double grad_max_norm(int nv, const double *grad);
 

@@ -93,6 +93,22 @@ static gsl_complex leading(const mesh *m, const model *p, int j, double tau, dou
 	return lam;
 }
 
+/* A copy of m0 moved along v (2 nv coordinates, then junction j's
+ * tension), 1e-6 in its largest entry: the linear regime. */
+static mesh *along(const mesh *m0, const double *v, int j)
+{
+	int n = 2 * m0->nv;
+	mesh *m = mesh_copy(m0);
+	mesh_tension_alloc(m);
+	double vmax = 0;
+	for (int i = 0; i <= n; i++)
+		vmax = fmax(vmax, fabs(v[i]));
+	for (int i = 0; i < n; i++)
+		m->r[i] += 1e-6 * v[i] / vmax;
+	m->dg[j] = 1e-6 * v[n] / vmax;
+	return m;
+}
+
 /* Samples of l(t) on a grid, from the observer. */
 typedef struct {
 	int j;
@@ -262,15 +278,7 @@ static void linear(void)
 	for (int side = 0; side < 2; side++) {
 		double g0 = gstar * (side ? 1.05 : 0.95);
 		gsl_complex lam = leading(m0, &p, j, tau, g0, v);
-		/* start along the eigenvector's real part, 1e-6 in size */
-		mesh *m = mesh_copy(m0);
-		mesh_tension_alloc(m);
-		double vmax = 0;
-		for (int i = 0; i <= n; i++)
-			vmax = fmax(vmax, fabs(v[i]));
-		for (int i = 0; i < n; i++)
-			m->r[i] += 1e-6 * v[i] / vmax;
-		m->dg[j] = 1e-6 * v[n] / vmax;
+		mesh *m = along(m0, v, j);
 		act_opts o;
 		act_opts_init(&o);
 		o.tau = tau;
@@ -347,11 +355,136 @@ static void collapse(void)
 	}
 }
 
+/* The stable side without oscillation: at p0 3.70, rate 0.01 (paper Fig.
+ * S4D) the 6x6 honeycomb's leading eigenvalue is a complex pair at the
+ * paper's gamma0 0.09 (its 324-cell sample's is real) and real at gamma0
+ * 0.01; from along its eigenvector l - l0 decays without changing sign,
+ * at that rate. */
+static void direct(void)
+{
+	mesh *m0 = honeycomb(6, 3.70);
+	model p = model_from_mesh(m0);
+	int j = 0, n = 2 * m0->nv;
+	double tau = 100, g0 = 0.01, l0 = junction_length(m0, m0->r, j);
+	double *v = malloc((n + 1) * sizeof *v);
+	gsl_complex lam = leading(m0, &p, j, tau, g0, v);
+	diag("p0 3.70, rate 0.01, gamma0 0.01: leading eigenvalue %.6g %+.3gi", GSL_REAL(lam), GSL_IMAG(lam));
+	mesh *m = along(m0, v, j);
+	act_opts o;
+	act_opts_init(&o);
+	o.tau = tau;
+	o.gamma0 = g0;
+	o.rtol = 1e-10;
+	double T = 3 / fabs(GSL_REAL(lam));
+	rec q = { .j = j, .dt = T / 300 };
+	act_end why;
+	mesh *mo;
+	act_free(run(m, &mo, j, &o, T, &q, &why));
+	int flips = 0;
+	for (int i = 1; i < q.n; i++)
+		flips += (q.l[i] - l0) * (q.l[i - 1] - l0) < 0;
+	/* the decay rate between t = T/3 and T */
+	int i1 = q.n / 3, i2 = q.n - 1;
+	double a = log((q.l[i2] - l0) / (q.l[i1] - l0)) / (q.t[i2] - q.t[i1]);
+	diag("trajectory: %d sign changes of l - l0, decay rate %.6g", flips, a);
+	ok(GSL_IMAG(lam) == 0 && GSL_REAL(lam) < 0 && flips == 0,
+	   "direct relaxation: a real negative eigenvalue, l - l0 keeps its sign");
+	ok(fabs(a - GSL_REAL(lam)) <= 0.01 * fabs(GSL_REAL(lam)), "its decay rate matches the eigenvalue within 1%%");
+	free(q.t);
+	free(q.l);
+	free(v);
+	mesh_free(mo);
+	mesh_free(m);
+	mesh_free(m0);
+}
+
+/* The limit cycle of paper Fig. 3E, (rate, p0, gamma0) = (0.19, p_hex,
+ * 0.11), on the 6x6 honeycomb: from a 1e-4 perturbation the oscillation
+ * grows and saturates; over the last 500 time units of 1500 the extremes
+ * stay put (amplitude constant within 1%) and the period is recorded. */
+static void cycle(void)
+{
+	mesh *m0 = honeycomb(6, TIS_PHEX);
+	act_perturb(m0, NULL, 1e-4, 1, NULL, 0);
+	act_opts o;
+	act_opts_init(&o);
+	o.tau = 1 / 0.19;
+	o.gamma0 = 0.11;
+	o.rtol = 1e-9;
+	rec q = { .j = 0, .dt = 0.1 };
+	act_end why;
+	mesh *mo;
+	act_free(run(m0, &mo, 0, &o, 1500, &q, &why));
+	double amp[64], tmax[64];
+	int na = 0;
+	double hi = -INFINITY, lo = INFINITY;
+	for (int i = 1; i + 1 < q.n; i++) {
+		if (q.t[i] < 1000)
+			continue;
+		hi = fmax(hi, q.l[i]);
+		lo = fmin(lo, q.l[i]);
+		if (q.l[i] > q.l[i - 1] && q.l[i] >= q.l[i + 1] && na < 64) {
+			/* the amplitude of this period: its maximum minus the
+			 * minimum that follows, halved */
+			double mn = q.l[i];
+			for (int k = i; k < q.n && q.t[k] < q.t[i] + 0.75 * (q.t[i] - (na ? tmax[na - 1] : 1000)) + 60; k++)
+				mn = fmin(mn, q.l[k]);
+			tmax[na] = q.t[i];
+			amp[na++] = 0.5 * (q.l[i] - mn);
+		}
+	}
+	double period = na > 1 ? (tmax[na - 1] - tmax[0]) / (na - 1) : NAN;
+	double amin = INFINITY, amax = 0;
+	for (int k = 0; k + 1 < na; k++) {
+		amin = fmin(amin, amp[k]);
+		amax = fmax(amax, amp[k]);
+	}
+	diag("limit cycle: l in [%.5f, %.5f] over t 1000-1500, amplitude %.5f (spread %.2g), period %.3f from %d maxima",
+	     lo, hi, 0.5 * (hi - lo), amax - amin, period, na);
+	ok(why == ACT_END_TIME && na >= 5 && amin > 0.05 && (amax - amin) <= 0.01 * amax,
+	   "sustained limit cycle at (0.19, p_hex, 0.11): amplitude %.4f constant within 1%%", amax);
+	free(q.t);
+	free(q.l);
+	mesh_free(mo);
+	mesh_free(m0);
+}
+
+/* A state that overflows: both schemes stop with ACT_END_NONFINITE and
+ * leave the last finite state in the mesh. */
+static void nonfinite(void)
+{
+	for (int sch = 0; sch < 2; sch++) {
+		mesh *m0 = honeycomb(6, 3.65);
+		mesh_tension_alloc(m0);
+		m0->dg[0] = 1e307;
+		act_opts o;
+		act_opts_init(&o);
+		o.scheme = sch ? ACT_BDF : ACT_EULER;
+		o.gamma0 = 1e307;
+		act_end why;
+		mesh *mo;
+		act *a = run(m0, &mo, 0, &o, 10, NULL, &why);
+		int fin = 1;
+		for (int i = 0; i < 2 * mo->nv; i++)
+			fin &= isfinite(mo->r[i]);
+		fin &= isfinite(mo->dg[0]);
+		diag("%s: ended %s at t %g", sch ? "bdf" : "euler", act_end_name(why), act_time(a));
+		ok(why == ACT_END_NONFINITE && fin, "%s: an overflowing state ends the run as nonfinite, the mesh finite",
+		   sch ? "bdf" : "euler");
+		act_free(a);
+		mesh_free(mo);
+		mesh_free(m0);
+	}
+}
+
 int main(void)
 {
-	tap_plan(4 + 5 + 5);
+	tap_plan(4 + 5 + 5 + 2 + 1 + 2);
+	nonfinite();
 	convergence();
 	linear();
+	direct();
+	cycle();
 	collapse();
 	return tap_done();
 }

@@ -45,7 +45,7 @@ static const char help[] =
 	"  --seed N           random seed (default 1)\n"
 	"  --scheme S         bdf (default) or euler (the paper's; default with noise\n"
 	"                     and in network mode)\n"
-	"  --rtol X           bdf tolerance (default 1e-6)\n"
+	"  --rtol X           bdf tolerance (default 1e-9)\n"
 	"  --dt DT, --dr DR   euler step limits (default 0.001 each)\n"
 	"  --t1 L             T1 threshold (network default 0.01, else 0: off)\n"
 	"  --t1-new L         length of a junction made by a T1 (default 0.001)\n"
@@ -397,8 +397,11 @@ static void history_end(mesh *m, const struct opts *o, const struct result *r)
 	int len = snprintf(note, sizeof note, "end %s at t %.10g", act_end_name(r->why), r->t_end);
 	if (r->why == ACT_END_COLLAPSE)
 		len += snprintf(note + len, sizeof note - len, ", t_c %.10g", r->t_c);
-	snprintf(note + len, sizeof note - len, "; %s, %ld steps, %ld force evaluations, %ld T1s",
-		 o->a.scheme == ACT_BDF ? "bdf" : "euler", r->c.nstep, r->c.nfev, r->c.nt1);
+	len += snprintf(note + len, sizeof note - len, "; %s, %ld steps, %ld force evaluations, %ld T1s",
+			o->a.scheme == ACT_BDF ? "bdf" : "euler", r->c.nstep, r->c.nfev, r->c.nt1);
+	if (o->a.scheme == ACT_BDF)
+		snprintf(note + len, sizeof note - len, ", %ld factorizations, %ld GMRES iterations",
+			 r->c.nsetup, r->c.nlin);
 	cli_history_note(m, note);
 }
 

@@ -230,19 +230,6 @@ static int run_to(struct run *u, double t_end)
 	return !cli_stop;
 }
 
-/* Append a shell comment to the last history line (the command line). */
-static void history_note(mesh *m, const char *note)
-{
-	char *h = m->hist[m->nhist - 1];
-	size_t n = strlen(h) + strlen(note) + 4;
-	char *s = realloc(h, n);
-	if (s == NULL)
-		cli_die(EXIT_INPUT, "out of memory");
-	strcat(s, " # ");
-	strcat(s, note);
-	m->hist[m->nhist - 1] = s;
-}
-
 int main(int argc, char **argv)
 {
 	cli_init("tis-anneal", usage, argc, argv);
@@ -328,7 +315,7 @@ int main(int argc, char **argv)
 				"(settle), covering %.10g time units", c.nsettle, o.d.settle, c.t_settled);
 	if (!done)
 		snprintf(note + len, sizeof note - len, "; interrupted");
-	history_note(m, note);
+	cli_history_note(m, note);
 
 	if (u.log) {
 		if (!done)

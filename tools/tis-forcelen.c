@@ -5,10 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_randist.h>
-#include <gsl/gsl_rng.h>
 
 #include "cli.h"
+#include "select.h"
 #include "forcelen.h"
 #include "geom.h"
 
@@ -159,51 +158,23 @@ static struct opts parse(int argc, char **argv)
 /* The junctions to measure, in output order. */
 static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 {
-	int n = 0;
-	int *sel = NULL;
+	int *sel = NULL, n = 0, st = MESH_OK;
+	mesh_error err;
 	switch (o->sel) {
-	case SEL_PAIR: {
-		int j = cli_junction(m, o->va, o->vb);
-		sel = malloc(sizeof *sel);
-		if (sel)
-			sel[n++] = j;
-		break;
-	}
-	case SEL_INDEX:
-		if (o->index >= m->nj)
-			cli_die(EXIT_INPUT, "--index %ld: the mesh has %d junctions", o->index, m->nj);
-		sel = malloc(sizeof *sel);
-		if (sel)
-			sel[n++] = (int)o->index;
-		break;
-	case SEL_RANDOM: {
-		if (o->nrandom > m->nj)
-			cli_die(EXIT_INPUT, "--random %ld: the mesh has %d junctions", o->nrandom, m->nj);
-		int *all = malloc((size_t)m->nj * sizeof *all);
-		sel = malloc((size_t)o->nrandom * sizeof *sel);
-		gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-		if (all && sel && r) {
-			for (int j = 0; j < m->nj; j++)
-				all[j] = j;
-			gsl_rng_set(r, o->seed);
-			/* gsl_ran_choose keeps the input order: ascending indices */
-			gsl_ran_choose(r, sel, (size_t)o->nrandom, all, (size_t)m->nj, sizeof *all);
-			n = (int)o->nrandom;
-		}
-		if (r)
-			gsl_rng_free(r);
-		free(all);
-		break;
-	}
+	case SEL_PAIR: st = junction_select_pair(m, o->va, o->vb, &sel, &n, &err); break;
+	case SEL_INDEX: st = junction_select_index(m, o->index, &sel, &n, &err); break;
+	case SEL_RANDOM: st = junction_select_random(m, o->nrandom, o->seed, &sel, &n, &err); break;
 	case SEL_ALL:
 		sel = malloc(((size_t)m->nj + 1) * sizeof *sel);
 		if (sel)
 			for (; n < m->nj; n++)
 				sel[n] = n;
+		else
+			st = mesh_error_set(&err, 0, MESH_ENOMEM, "out of memory");
 		break;
 	}
-	if (sel == NULL || (n == 0 && m->nj > 0))
-		cli_die(EXIT_INPUT, "out of memory");
+	if (st != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err.msg);
 	*count = n;
 	return sel;
 }
