@@ -5,7 +5,8 @@
 #   make bench        benchmarks in bench/, results in bench/RESULTS.md
 #   make figures      figures/*.png (gnuplot): a1, a3 against p0, f(l) curves
 #   make demo         installs what is missing, builds, runs the default job
-#   make install      PREFIX=/usr/local DESTDIR=
+#   make install      PREFIX=/usr/local DESTDIR=: programs, man pages, the
+#                     library (libtis.a, include/tis/, tis.pc), documentation
 #
 # Everything is found by wildcard: a new libmesh/*.c or *.cc joins the
 # library, a new tools/tis-*.c is a program, tests/*.c a unit test,
@@ -88,6 +89,7 @@ $(O)tests/%.test: tests/%.c tests/tap.h $(LIB) $(LIB_H)
 # Program tests find the programs through TIS_BIN (and PATH).
 check: $(LIB) $(PROGS) $(UNITS)
 	TIS_BIN=$(CURDIR)/$(O)bin PATH="$(CURDIR)/$(O)bin:$$PATH" \
+	  TIS_SAN="$(SAN)" TIS_SANFLAGS="$(SANFLAGS)" \
 	  prove -j2 $(UNITS) $(SHELL_TESTS)
 
 # figures.sh and the study it draws on (disorder-a1.sh, about half an hour)
@@ -98,7 +100,9 @@ bench: all
 	  [ -x "$$b" ] || continue; \
 	  echo "== $$b"; PATH="$(CURDIR)/bin:$$PATH" "$$b" || exit 1; done
 
-DEBS = libgsl-dev libnlopt-dev libcgal-dev libsundials-dev liblapacke-dev libopenblas-dev g++ make
+DEBS = libgsl-dev libnlopt-dev libcgal-dev libsundials-dev liblapacke-dev libopenblas-dev g++ make perl
+# the table and VTK tests use these when present (CI installs them)
+TESTDEBS = python3-pandas gnuplot-nox python3-vtk9 pkgconf
 # the sweeps (studies/): GNU parallel; the SLURM test: slurm-wlm
 SWEEPDEBS = parallel procps slurm-wlm
 FIGDEBS = gnuplot-nox
@@ -124,19 +128,40 @@ studies: all
 	@./.ci/deps --quiet $(FIGDEBS) $(SWEEPDEBS)
 	$(MAKE) -C studies all
 
+# The library installs as libtis.a with its headers in include/tis/ and
+# tis.pc (libMesh, the finite-element library, owns the names libmesh and
+# libmesh.pc); the documentation the man pages refer to goes to DOCDIR.
+LIBDIR = $(PREFIX)/lib
+INCDIR = $(PREFIX)/include/tis
+PCDIR = $(LIBDIR)/pkgconfig
+DOCDIR = $(PREFIX)/share/doc/tis
+DOCS = README.md LICENSE CITATION.cff doc/DESIGN.md doc/relax-energy.c bench/RESULTS.md
+
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \
-	  $(DESTDIR)$(PREFIX)/share/man/man5 $(DESTDIR)$(PREFIX)/share/man/man7
+	  $(DESTDIR)$(PREFIX)/share/man/man5 $(DESTDIR)$(PREFIX)/share/man/man7 \
+	  $(DESTDIR)$(INCDIR) $(DESTDIR)$(PCDIR) $(DESTDIR)$(DOCDIR)
 	install -m 755 $(PROGS) $(DESTDIR)$(PREFIX)/bin
 	install -m 644 $(MAN1) $(DESTDIR)$(PREFIX)/share/man/man1
 	install -m 644 $(MAN5) $(DESTDIR)$(PREFIX)/share/man/man5
 	install -m 644 $(MAN7) $(DESTDIR)$(PREFIX)/share/man/man7
+	install -m 644 $(LIB_H) $(DESTDIR)$(INCDIR)
+	install -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/libtis.a
+	printf '%s\n' 'prefix=$(PREFIX)' 'libdir=$${prefix}/lib' 'includedir=$${prefix}/include' '' \
+	  'Name: tis' 'Description: 2D vertex-model tissue mechanics (libmesh of the tis suite)' \
+	  'Version: $(VERSION)' 'Cflags: -I$${includedir}' 'Libs: -L$${libdir} -ltis' \
+	  'Libs.private: $(LIBS)' >$(DESTDIR)$(PCDIR)/tis.pc
+	install -m 644 $(DOCS) $(DESTDIR)$(DOCDIR)
+	install -m 644 samples/README.md $(DESTDIR)$(DOCDIR)/samples.md
 
 uninstall:
 	rm -f $(PROGS:$(O)bin/%=$(DESTDIR)$(PREFIX)/bin/%) \
 	  $(MAN1:man/%=$(DESTDIR)$(PREFIX)/share/man/man1/%) \
 	  $(MAN5:man/%=$(DESTDIR)$(PREFIX)/share/man/man5/%) \
-	  $(MAN7:man/%=$(DESTDIR)$(PREFIX)/share/man/man7/%)
+	  $(MAN7:man/%=$(DESTDIR)$(PREFIX)/share/man/man7/%) \
+	  $(LIB_H:libmesh/%=$(DESTDIR)$(INCDIR)/%) $(DESTDIR)$(LIBDIR)/libtis.a \
+	  $(DESTDIR)$(PCDIR)/tis.pc $(addprefix $(DESTDIR)$(DOCDIR)/,$(notdir $(DOCS)) samples.md)
+	-rmdir $(DESTDIR)$(INCDIR) $(DESTDIR)$(DOCDIR) 2>/dev/null
 
 clean:
 	rm -rf libmesh/*.o tools/*.o $(LIB) bin tests/*.test build-san demo-out

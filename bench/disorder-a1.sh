@@ -1,7 +1,7 @@
 #!/bin/sh
 # Where the linear coefficient a1 of the junction force-extension curve
-# vanishes, for the disordered and the ordered 324-cell samples (issue 6,
-# the paper's Fig. 2: "near 3.86" for disordered tissue, p_hex for ordered).
+# vanishes, for the disordered and the ordered 324-cell samples (the
+# paper's Fig. 2: "near 3.86" for disordered tissue, p_hex for ordered).
 #
 # Per sample, quasistatically as an experiment would: relax at the first p0
 # of the grid starting from the shipped sample (p0 3.65), then at every
@@ -24,6 +24,13 @@
 # Cost: (10 samples x NP0 + 5 x NDIRECT) meshes x ~8 s; one process at a
 # time (the machine is shared).  SUMMARY_ONLY=1 only redoes the tables.
 set -eu
+# Tables (tis(7)): '#' provenance lines, one line of column names, rows.
+# ROWS selects the rows of tis-forcelen tables, however many were joined
+# by cat (their first column is a number); BODY the rows of one table.
+ROWS='$1 == $1 + 0'
+BODY='/^#/ || !h++ { next } 1'
+PROV="bench/disorder-a1.sh${*:+ $*}"
+
 OUT=${OUT:-bench/out/disorder-a1}
 SAMPLES_DIR=${SAMPLES_DIR:-samples}
 DIS=${DIS:-"disordered-1 disordered-2 disordered-3 disordered-4 disordered-5"}
@@ -76,7 +83,7 @@ if [ "${SUMMARY_ONLY:-0}" != 1 ]; then
 		case $s in disordered*) grid=$P0_DIS ;; *) grid=$P0_ORD ;; esac
 		lo=
 		for p in $grid; do
-			med=$(awk '!/^#/ { print $6 }' "$OUT/$s-chain-$p.lin" | sort -g |
+			med=$(awk "$ROWS"' { print $6 }' "$OUT/$s-chain-$p.lin" | sort -g |
 				awk '{ v[n++] = $1 } END { print (n % 2 ? v[(n - 1) / 2] : (v[n / 2 - 1] + v[n / 2]) / 2) }')
 			hi=$p
 			if awk -v m="$med" 'BEGIN { exit !(m < 0) }'; then lo=$p; else break; fi
@@ -98,7 +105,7 @@ QAWK='function q(p,  h, i) { h = (n - 1) * p; i = int(h); return i + 1 < n ? v[i
 
 # Per sample, route and p0.
 {
-	printf '# sample\troute\tp0\tmaxforce\tnzero\tnneg\tn\ta1_q1\ta1_med\ta1_q3\tfloppy\tpositive\tT1s\n'
+	printf '# %s\nsample\troute\tp0\tmaxforce\tnzero\tnneg\tn\ta1_q1\ta1_med\ta1_q3\tfloppy\tpositive\tT1s\n' "$PROV"
 	for f in "$OUT"/*.lin; do
 		b=${f%.lin}
 		name=${b##*/}
@@ -108,7 +115,7 @@ QAWK='function q(p,  h, i) { h = (n - 1) * p; i = int(h); return i + 1 < n ? v[i
 		s=${rest%-*}
 		mf=$(sed -n 's/.*max force \([^,]*\),.*/\1/p' "$b.relax" | head -1)
 		t1=$(sed -n 's/^history tis-anneal.* \([0-9]*\) T1s.*/\1/p' "$b.mesh" | tail -1)
-		awk 'NR > 1 { print $6, $7, $8 }' "$f" | sort -g | awk -v s="$s" -v r="$route" -v p="$p" -v mf="${mf:-NA}" -v t1="${t1:-NA}" "$QAWK"'
+		awk "$ROWS"' { print $6, $7, $8 }' "$f" | sort -g | awk -v s="$s" -v r="$route" -v p="$p" -v mf="${mf:-NA}" -v t1="${t1:-NA}" "$QAWK"'
 			{ v[n++] = $1; fl += $1 == 0; po += $1 > 0; nz = $2; ng = $3 }
 			END { printf "%s\t%s\t%s\t%s\t%d\t%d\t%d\t%.6g\t%.6g\t%.6g\t%.4f\t%.4f\t%s\n",
 			      s, r, p, mf, nz, ng, n, q(0.25), q(0.5), q(0.75), fl / n, po / n, t1 }'
@@ -117,7 +124,7 @@ QAWK='function q(p,  h, i) { h = (n - 1) * p; i = int(h); return i + 1 < n ? v[i
 
 # Pooled over the samples of a set: every junction of every sample.
 {
-	printf '# set\troute\tp0\tnsamples\tn\ta1_q1\ta1_med\ta1_q3\tfloppy\tpositive\tmaxforce_max\tnneg_max\n'
+	printf '# %s\nset\troute\tp0\tnsamples\tn\ta1_q1\ta1_med\ta1_q3\tfloppy\tpositive\tmaxforce_max\tnneg_max\n' "$PROV"
 	for set in disordered ordered; do
 		for route in chain direct; do
 			for p in $(ls "$OUT" | sed -n "s/^$set-[0-9]*-$route-\(.*\)\.lin$/\1/p" | sort -gu); do
@@ -126,7 +133,7 @@ QAWK='function q(p,  h, i) { h = (n - 1) * p; i = int(h); return i + 1 < n ? v[i
 					index($1, set) == 1 && $2 == r && $3 == p {
 						if ($4 + 0 > mf) mf = $4 + 0; if ($6 > ng) ng = $6 }
 					END { printf "%.3g\t%d", mf, ng }' "$OUT/a1-by-sample.tsv")
-				cat "$OUT/$set"-[0-9]*-"$route-$p.lin" | awk '!/^#/ { print $6 }' | sort -g |
+				cat "$OUT/$set"-[0-9]*-"$route-$p.lin" | awk "$ROWS"' { print $6 }' | sort -g |
 					awk -v set="$set" -v r="$route" -v p="$p" -v ns="$ns" -v extra="$extra" "$QAWK"'
 					{ v[n++] = $1; fl += $1 == 0; po += $1 > 0 }
 					END { printf "%s\t%s\t%s\t%d\t%d\t%.6g\t%.6g\t%.6g\t%.4f\t%.4f\t%s\n",
@@ -165,11 +172,11 @@ CROSS='
 	}
 	END { if (cur != "") out() }'
 {
-	printf '# sample_or_set\troute\tp0_lo\tp0_hi\tp0_interp\tp0_extrap\n'
+	printf '# %s\nsample_or_set\troute\tp0_lo\tp0_hi\tp0_interp\tp0_extrap\n' "$PROV"
 	# chain and fine are one quasistatic route
-	awk -F '\t' -v OFS='\t' '!/^#/ { if ($2 == "fine") $2 = "chain"; print }' "$OUT/a1-by-sample.tsv" |
+	awk -F '\t' -v OFS='\t' "$BODY"' { if ($2 == "fine") $2 = "chain"; print }' "$OUT/a1-by-sample.tsv" |
 		sort -t "$(printf '\t')" -k1,1V -k2,2 -k3,3g |
 		awk -F '\t' -v col=9 -v fcol=4 "$CROSS"
-	awk -F '\t' '!/^#/' "$OUT/a1-pooled.tsv" | awk -F '\t' -v col=7 -v fcol=11 "$CROSS"
+	awk -F '\t' "$BODY" "$OUT/a1-pooled.tsv" | awk -F '\t' -v col=7 -v fcol=11 "$CROSS"
 } >"$OUT/crossings.tsv"
 cat "$OUT/crossings.tsv"

@@ -18,7 +18,8 @@
 # missing, ~10 CPU minutes); the sweeps and fits here add ~NJ x 5 x NP0
 # curves of 41 points (--range 0.1 --no-back: the fits need |l - l0| <=
 # 0.1 only).  Intermediate tables go to $DATA (bench/out/figures).  One
-# heavy process at a time: the machine has 2 shared cores.
+# heavy process at a time: the machine has 2 shared cores.  Rows of tables
+# joined by cat are the lines whose first field is a number (tis(7)).
 set -eu
 here=$(dirname "$0")
 OUT=${OUT:-figures}
@@ -67,11 +68,11 @@ for s in $DIS; do
 done
 # Points that missed the force tolerance by far (a residual up to 10 was
 # seen at p0 3.82-3.83: no constrained minimum found there) are left out
-# of the fits; the rest of their curve is kept.
-for s in $DIS; do for p in $DIS_P0; do cat "$DATA/$s-$p.f.tsv"; done; done |
-	awk -F '\t' '/^#/ || $10 <= 1e-6' >"$DATA/dis_f.tsv"
-tis-fit "$DATA/dis_f.tsv" >"$DATA/dis_fit.tsv"
-tis-fit --summary "$DATA/dis_f.tsv" >"$DATA/dis_summary.tsv"
+# of the fits (tis-fit --max-fres); the rest of their curve is kept.  The
+# tables are joined by cat: tis-fit takes each repeated header as such.
+for s in $DIS; do for p in $DIS_P0; do cat "$DATA/$s-$p.f.tsv"; done; done >"$DATA/dis_f.tsv"
+tis-fit --max-fres 1e-6 "$DATA/dis_f.tsv" >"$DATA/dis_fit.tsv"
+tis-fit --max-fres 1e-6 --summary "$DATA/dis_f.tsv" >"$DATA/dis_summary.tsv"
 
 # The linear-response quartiles of disorder-a1.sh, one file per set (gnuplot
 # selects rows by column value more easily from separate files).
@@ -100,14 +101,14 @@ done
 # from l0; the return legs are left out): columns p0 j l-l0 f, a blank
 # line between curves.
 curves() {
-	awk -F '\t' '!/^#/ && $6 != "back" { printf "%s\t%s\t%.10g\t%s\n", $1, $2, $7 - $5, $8 }' "$1" |
+	awk -F '\t' '$1 == $1 + 0 && $6 != "back" { printf "%s\t%s\t%.10g\t%s\n", $1, $2, $7 - $5, $8 }' "$1" |
 		sort -k1,1g -k2,2n -k3,3g | awk -F '\t' 'NR > 1 && ($1 != p || $2 != j) { print "" } { p = $1; j = $2; print }'
 }
 curves "$DATA/hex_curves.tsv" >"$DATA/hex_curves_sorted.tsv"
 for p in $CURVE_P0; do curves "$DATA/dis_curves_$p.tsv" >"$DATA/dis_curves_${p}_sorted.tsv"; done
 # Histogram of the exact a1 over the 5 x 972 junctions at those p0.
 for p in 3.70 3.80 3.83 3.86; do
-	cat "$A1DIR"/disordered-*-chain-"$p".lin | awk -v p="$p" '!/^#/ {
+	cat "$A1DIR"/disordered-*-chain-"$p".lin | awk -v p="$p" '$1 == $1 + 0 {
 		b = int(($6 + 3) / 0.05); if ($6 < -3) b = -1; h[b]++; n++ }
 		END { for (b in h) printf "%s\t%.4f\t%.5f\n", p, b * 0.05 - 3 + 0.025, h[b] / n / 0.05 }' |
 		sort -k2,2g >"$DATA/a1_hist_$p.tsv"

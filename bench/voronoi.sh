@@ -15,7 +15,7 @@ fi
 tmp=$(mktemp)
 trap 'rm -f "$tmp"' EXIT
 echo "# tis-voronoi on $(nproc) cores, $(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)"
-printf '# N\tlloyd\twall_best_s\twall_median_s\tcpu_best_s\truns\n'
+printf 'N\tlloyd\twall_best_s\twall_median_s\tcpu_best_s\truns\n'
 for case in "324 0" "10000 0" "100000 0" "10000 10"; do
 	set -- $case
 	N=$1 K=$2

@@ -16,20 +16,23 @@ static int fail(mesh_error *err, int st, const char *msg)
 	return mesh_error_set(err, 0, st, "%s", msg);
 }
 
+int fit_in_window(double u, double window)
+{
+	/* Points on a grid l0 + k step sit on the window's edge up to rounding:
+	 * count them in. */
+	return (!(window > 0) || isinf(window) || fabs(u) <= window * (1 + 1e-9)) && isfinite(u);
+}
+
 int fit_poly(int n, const double *l, const double *f, double l0, double window,
              int degree, fit_result *res, mesh_error *err)
 {
 	if (degree < 0 || degree > FIT_MAXDEG)
 		return fail(err, MESH_EDOM, "degree out of range");
-	int all = !(window > 0) || isinf(window);
-	/* Points on a grid l0 + k step sit on the window's edge up to rounding:
-	 * count them in. */
-	window *= 1 + 1e-9;
 	int m = 0;
 	double h = 0;   /* largest |l - l0| used: the scale of the columns */
 	for (int i = 0; i < n; i++) {
 		double u = l[i] - l0;
-		if ((all || fabs(u) <= window) && isfinite(u) && isfinite(f[i])) {
+		if (fit_in_window(u, window) && isfinite(f[i])) {
 			m++;
 			if (fabs(u) > h)
 				h = fabs(u);
@@ -64,7 +67,7 @@ int fit_poly(int n, const double *l, const double *f, double l0, double window,
 	int r = 0;
 	for (int i = 0; i < n; i++) {
 		double u = l[i] - l0;
-		if (!((all || fabs(u) <= window) && isfinite(u) && isfinite(f[i])))
+		if (!(fit_in_window(u, window) && isfinite(f[i])))
 			continue;
 		u /= h;
 		double pk = 1;
@@ -105,7 +108,7 @@ int fit_poly(int n, const double *l, const double *f, double l0, double window,
 		double ss = 0, mx = 0;
 		for (int i = 0; i < n; i++) {
 			double u = l[i] - l0;
-			if (!((all || fabs(u) <= window) && isfinite(u) && isfinite(f[i])))
+			if (!(fit_in_window(u, window) && isfinite(f[i])))
 				continue;
 			double e = fabs(f[i] - fit_eval(res, l[i]));
 			ss += e * e;

@@ -23,6 +23,9 @@ typedef struct {
 	double maxres;                /* largest |residual| */
 } fit_result;
 
+/* 1 if a point at l - l0 = u is one fit_poly fits with this window. */
+int fit_in_window(double u, double window);
+
 /* Fit the n points (l[i], f[i]) with |l - l0| <= window (window <= 0 or
  * infinite: all points).  MESH_EDOM with a message if degree is outside
  * 0..FIT_MAXDEG or fewer than degree+1 points lie in the window (or

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
 
 const char *fl_dir_name(int dir)
@@ -600,38 +599,30 @@ int fl_linear_alloc(const mesh *m, const model *p, double zerotol,
 		return lin_fail(err, MESH_EDOM, "zero-mode tolerance must be in [0, 1)");
 	int n = 2 * m->nv;
 	fl_linear *lr = calloc(1, sizeof *lr);
-	double *h = malloc(((size_t)n * n + 1) * sizeof *h);
-	gsl_eigen_symmv_workspace *ew = gsl_eigen_symmv_alloc(n);
-	gsl_vector *ev = gsl_vector_alloc(n);
-	gsl_matrix *U = gsl_matrix_alloc(n, n);
 	if (lr)
 		lr->n = n;
 	if (lr) {
-		lr->lam = malloc((size_t)n * sizeof *lr->lam);
-		lr->u = malloc((size_t)n * n * sizeof *lr->u);
-		lr->kind = malloc((size_t)n * sizeof *lr->kind);
+		lr->lam = malloc(((size_t)n + 1) * sizeof *lr->lam);
+		lr->u = malloc(((size_t)n * n + 1) * sizeof *lr->u);
+		lr->kind = malloc(((size_t)n + 1) * sizeof *lr->kind);
 	}
 	int st = MESH_OK;
-	if (!lr || !h || !ew || !ev || !U || !lr->lam || !lr->u || !lr->kind ||
-	    mesh_hessian(m, m->r, p, h) != MESH_OK) {
+	if (!lr || !lr->lam || !lr->u || !lr->kind) {
 		st = lin_fail(err, MESH_ENOMEM, "out of memory");
 		goto done;
 	}
-	gsl_matrix_view H = gsl_matrix_view_array(h, n, n);
-	if (gsl_eigen_symmv(&H.matrix, ev, U, ew) != GSL_SUCCESS) {
-		st = lin_fail(err, MESH_ENOCONV, "eigendecomposition of the hessian failed");
+	st = mesh_hessian_eigen(m, m->r, p, HESS_EIG_LAPACK, lr->lam, lr->u);
+	if (st != MESH_OK) {
+		st = lin_fail(err, st == MESH_ENOMEM ? MESH_ENOMEM : MESH_ENOCONV,
+		              st == MESH_ENOMEM ? "out of memory"
+		                                : "eigendecomposition of the hessian failed");
 		goto done;
 	}
 	double lmax = 0;
-	for (int k = 0; k < n; k++) {
-		lr->lam[k] = gsl_vector_get(ev, k);
+	for (int k = 0; k < n; k++)
 		if (fabs(lr->lam[k]) > lmax)
 			lmax = fabs(lr->lam[k]);
-	}
 	lr->tol = zerotol * lmax;
-	for (int i = 0; i < n; i++)
-		for (int k = 0; k < n; k++)
-			lr->u[(size_t)i * n + k] = gsl_matrix_get(U, i, k);
 	/* Translations are zero modes by construction; in a degenerate zero
 	 * space the solver returns some basis of it, so they are identified by
 	 * overlap: the two zero modes with the largest weight on the uniform
@@ -664,11 +655,6 @@ int fl_linear_alloc(const mesh *m, const model *p, double zerotol,
 	for (int k = 0; k < n; k++)
 		lr->nzero += lr->kind[k] == 1;
 done:
-	free(h);
-	if (ew)
-		gsl_eigen_symmv_free(ew);
-	gsl_vector_free(ev);
-	gsl_matrix_free(U);
 	if (st != MESH_OK)
 		fl_linear_free(lr);
 	else

@@ -7,7 +7,7 @@
  *
  *   f(l) = (grad_a W - grad_b W) . e = -2 dW/dl,   e = (cos t, sin t)
  *
- * (paper footnote; DESIGN.md, "The measurements"), so f(l0) = 0 at the rest
+ * (paper footnote; doc/DESIGN.md, "The measurements"), so f(l0) = 0 at the rest
  * length and a1 = f'(l0) < 0 for a stable junction.
  *
  * A sweep starts at the rest state (the mesh's own coordinates, which should
@@ -97,13 +97,14 @@ int fl_sweep(const mesh *m, const model *p, int j, const fl_opts *o,
 double fl_force(const mesh *m, const double *r, const model *p, int j,
                 double *grad, energy_ws *ws);
 
-/* Exact linear response at the rest state (DESIGN.md):
+/* Exact linear response at the rest state (doc/DESIGN.md):
  *
  *   a1 = f'(l0) = -2 / (g^T H^+ g),   g = grad l (4 nonzero entries),
  *
  * H the Hessian of W at m->r and H^+ its pseudo-inverse on the modes with
  * |eigenvalue| > zerotol * largest.  One symmetric eigendecomposition
- * (GSL, O(nv^3): about 2 s for 648 vertices) serves every junction.  If g
+ * (LAPACK dsyevd, mesh_hessian_eigen; O(nv^3): about 0.3 s for 648
+ * vertices) serves every junction.  If g
  * has weight on the zero modes beyond the two translations, the length
  * can change at no cost to second order and a1 = 0 (a floppy junction).
  * The answer means something only at a force-balanced state with no

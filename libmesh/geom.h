@@ -50,7 +50,7 @@ double mesh_energy(const mesh *m, const double *r, const model *p,
 
 /* The same, with junction tensions: grad is the gradient of
  * W + sum_j dg[j] l_j, so -grad is the passive plus active force of
- * DESIGN.md (the active force of junction j on vertex i is -dg_j grad_i l_j)
+ * doc/DESIGN.md (the active force of junction j on vertex i is -dg_j grad_i l_j)
  * at no extra cost.  dg may be NULL.  Returns W alone, without the tension
  * term. */
 double mesh_energy_tension(const mesh *m, const double *r, const model *p,

@@ -26,6 +26,16 @@ void mesh_hessvec(const mesh *m, const double *r, const model *p,
  * symmetric.  MESH_ENOMEM. */
 int mesh_hessian(const mesh *m, const double *r, const model *p, double *h);
 
+/* Its eigendecomposition: the n = 2 nv eigenvalues ascending into d and
+ * the orthonormal eigenvectors into u (row-major n x n, column k is the
+ * mode of d[k]).  HESS_EIG_LAPACK is LAPACK's dsyevd (divide and conquer,
+ * through LAPACKE; OpenBLAS here), HESS_EIG_GSL gsl_eigen_symmv: dsyevd is
+ * about 7 times faster at n = 1296 and 20 times at 2592 (bench/RESULTS.md).
+ * MESH_ENOMEM, MESH_ENOCONV (the solver failed), MESH_EDOM (solver). */
+enum hess_eig_solver { HESS_EIG_LAPACK, HESS_EIG_GSL };
+int mesh_hessian_eigen(const mesh *m, const double *r, const model *p, int solver,
+                       double *d, double *u);
+
 /* The exact Hessian as a sparse matrix, for preconditioners: each cell
  * couples every pair of its vertices (a dense 2n x 2n block per n-gon), so
  * the pattern is fixed by the topology.  h is the matrix (lower triangle,

@@ -561,6 +561,17 @@ int mesh_state_set(mesh *m, const char *name, const char *text)
 	return MESH_OK;
 }
 
+void mesh_state_del(mesh *m, const char *name)
+{
+	for (int i = 0; i < m->nstate; i++)
+		if (strcmp(m->state[i].name, name) == 0) {
+			free(m->state[i].text);
+			memmove(&m->state[i], &m->state[i + 1], (size_t)(m->nstate - i - 1) * sizeof *m->state);
+			m->nstate--;
+			return;
+		}
+}
+
 void mesh_state_clear(mesh *m)
 {
 	for (int i = 0; i < m->nstate; i++)

@@ -135,6 +135,8 @@ int mesh_param_set(mesh *m, const char *name, double v);
 const char *mesh_state_get(const mesh *m, const char *name);
 int mesh_state_set(mesh *m, const char *name, const char *text);
 void mesh_state_clear(mesh *m);
+/* Remove the state line NAME, if there is one. */
+void mesh_state_del(mesh *m, const char *name);
 
 /* The command line argv[0..argc) as one shell-quoted string (argv[0]
  * without its directory), malloc'd; NULL if out of memory. */

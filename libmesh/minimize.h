@@ -5,7 +5,7 @@
  * hold one junction's length by a parametrization).  Convergence is judged
  * on forces (the gradient), never on energy change alone: minimizers whose
  * line search compares energies stall at rounding level, long before the
- * forces are small (see DESIGN.md, "Numerical traps").
+ * forces are small (see doc/DESIGN.md, "Numerical traps").
  */
 #ifndef TIS_MINIMIZE_H
 #define TIS_MINIMIZE_H

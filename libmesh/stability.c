@@ -8,8 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_eigen.h>
-#include <gsl/gsl_errno.h>
 #include <lapacke.h>
 
 #include "hessian.h"
@@ -63,35 +61,6 @@ void stab_decomp_free(stab_decomp *sd)
 	free(sd);
 }
 
-/* Symmetric eigendecomposition of the n x n row-major h (destroyed) into
- * ascending d and u as in struct stab_decomp. */
-static int eig_sym(int solver, int n, double *h, double *d, double *u)
-{
-	if (solver == STAB_GSL) {
-		gsl_eigen_symmv_workspace *ws = gsl_eigen_symmv_alloc(n);
-		if (ws == NULL)
-			return MESH_ENOMEM;
-		gsl_matrix_view A = gsl_matrix_view_array(h, n, n);
-		gsl_matrix_view Z = gsl_matrix_view_array(u, n, n);
-		gsl_vector_view D = gsl_vector_view_array(d, n);
-		int st = gsl_eigen_symmv(&A.matrix, &D.vector, &Z.matrix, ws);
-		gsl_eigen_symmv_free(ws);
-		if (st != GSL_SUCCESS)
-			return MESH_ENOCONV;
-		gsl_eigen_symmv_sort(&D.vector, &Z.matrix, GSL_EIGEN_SORT_VAL_ASC);
-		return MESH_OK;
-	}
-	/* dsyevd returns ascending eigenvalues and, in row-major layout,
-	 * the eigenvectors as columns of h */
-	lapack_int info = LAPACKE_dsyevd(LAPACK_ROW_MAJOR, 'V', 'U', n, h, n, d);
-	if (info < 0)
-		return MESH_EDOM;
-	if (info > 0)
-		return MESH_ENOCONV;
-	memcpy(u, h, (size_t)n * n * sizeof *u);
-	return MESH_OK;
-}
-
 int stab_decomp_alloc(const mesh *m, const model *p, const stab_opts *o,
                       stab_decomp **out, mesh_error *err)
 {
@@ -106,21 +75,18 @@ int stab_decomp_alloc(const mesh *m, const model *p, const stab_opts *o,
 	if (n == 0)
 		return mesh_error_set(err, 0, MESH_EDOM, "empty mesh");
 	stab_decomp *sd = calloc(1, sizeof *sd);
-	double *h = malloc((size_t)n * n * sizeof *h);
 	if (sd) {
 		sd->d = malloc((size_t)n * sizeof *sd->d);
 		sd->u = malloc((size_t)n * n * sizeof *sd->u);
 	}
-	if (!sd || !h || !sd->d || !sd->u || mesh_hessian(m, m->r, p, h) != MESH_OK) {
-		free(h);
+	if (!sd || !sd->d || !sd->u) {
 		stab_decomp_free(sd);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	}
 	sd->n = n;
 	sd->nv = m->nv;
 	sd->fmax = fmax;
-	st = eig_sym(o->solver, n, h, sd->d, sd->u);
-	free(h);
+	st = mesh_hessian_eigen(m, m->r, p, o->solver, sd->d, sd->u);
 	if (st != MESH_OK) {
 		stab_decomp_free(sd);
 		return mesh_error_set(err, 0, st == MESH_ENOMEM ? MESH_ENOMEM : MESH_ENOCONV,

@@ -1,6 +1,6 @@
 /* stability.h - linear stability of active junctions at a force-free state.
  *
- * One junction j = (a, b) active in a passive tissue (DESIGN.md, "Active
+ * One junction j = (a, b) active in a passive tissue (doc/DESIGN.md, "Active
  * junctions: simulation and stability"; M. Krajnc, T. Stern, C. Zankoc,
  * "Active instability and nonlinear dynamics of cell-cell junctions",
  * arXiv:2101.07058, eqs. 1-2).  With H the Hessian of W, g = grad l_j
@@ -43,9 +43,10 @@
 #define TIS_STABILITY_H
 
 #include "geom.h"
+#include "hessian.h"
 #include "mesh.h"
 
-enum stab_solver { STAB_LAPACK, STAB_GSL };
+enum stab_solver { STAB_LAPACK = HESS_EIG_LAPACK, STAB_GSL = HESS_EIG_GSL };
 
 typedef struct {
 	double ftol;      /* largest vertex force of a force-balanced mesh

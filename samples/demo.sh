@@ -24,9 +24,10 @@ step "tis-forcelen --random 12 --seed 1 --range 0.1 --no-back | tis-fit"
 tis-forcelen --random 12 --seed 1 --range 0.1 --no-back "$out/relaxed.mesh" >"$out/fl.tsv"
 tis-fit "$out/fl.tsv" >"$out/fit.tsv"
 tis-fit --summary "$out/fl.tsv" >"$out/summary.tsv"
-awk -F '\t' 'NR == 1 { next }
+# tables: '#' provenance lines, a line of column names, then rows
+awk -F '\t' '/^#/ || !h++ { next }
 	{ printf "junction %4d  l0 %.4f  a1 %9.5f +- %.1e  a3 %9.4f +- %.1e\n", $2, $5, $8, $9, $12, $13 }' \
 	"$out/fit.tsv"
-awk -F '\t' 'NR == 2 { printf "\np0 %s, %d junctions: median a1 %.5f (quartiles %.5f, %.5f), median a3 %.4f\n", \
+awk -F '\t' '/^#/ || !h++ { next } !r++ { printf "\np0 %s, %d junctions: median a1 %.5f (quartiles %.5f, %.5f), median a3 %.4f\n", \
 	$1, $2, $4, $3, $5, $7 }' "$out/summary.tsv"
 printf '\nfiles in %s/: relaxed.mesh relaxed.svg fl.tsv fit.tsv summary.tsv\n' "$out"

@@ -23,7 +23,7 @@ ok "history records the command" sh -c "tis-hex --p0 3.7 4 4 | grep -qx 'history
 ok "history records the command as typed, options after operands" \
 	sh -c "tis-hex 4 4 --p0 3.7 | grep -qx 'history tis-hex 4 4 --p0 3.7'"
 cat "$T/h.mesh" "$T/h.mesh" "$T/h.mesh" | tis-info --tsv >"$T/tsv"
-ok "--tsv: a header and one row per frame" test "$(grep -c '^#' "$T/tsv") $(grep -vc '^#' "$T/tsv")" = "1 3"
+ok "--tsv: provenance, names, one row per frame" test "$(grep -c '^#' "$T/tsv") $(grep -vc '^#' "$T/tsv") $(rows "$T/tsv" | wc -l)" = "2 4 3"
 ok "file argument and stdin '-' agree" sh -c "tis-info '$T/h.mesh' >'$T/a' && tis-info - <'$T/h.mesh' >'$T/b' && cmp -s '$T/a' '$T/b'"
 ok "--help to stdout, exit 0" sh -c "tis-hex --help | grep -q '^usage: tis-hex'"
 ok "--version" sh -c "tis-info --version | grep -q '^tis-info (tis) '"

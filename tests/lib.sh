@@ -28,4 +28,9 @@ fails_with() {
 }
 # near A B TOL: |A - B| <= TOL
 near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t) }'; }
+# rows FILE...: the rows of tables (tis(7)), also of tables joined by cat:
+# the lines whose first field is a number.
+rows() { awk '$1 == $1 + 0' "$@"; }
+# names FILE: a table's line of column names (its first line without '#').
+names() { grep -v '^#' "$1" | head -1; }
 done_testing() { [ "$failed" -eq 0 ]; }

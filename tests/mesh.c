@@ -27,7 +27,7 @@ static mesh *read_str(const char *s, long *line, int *st, mesh_error *err)
 
 int main(void)
 {
-	tap_plan(19);
+	tap_plan(20);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 4, &m, &err);
@@ -128,6 +128,12 @@ int main(void)
 	mesh *sc = mesh_copy(b);
 	ok(sc && mesh_state_get(sc, "t") && mesh_state_set(sc, "t", "13") == MESH_OK &&
 	   strcmp(mesh_state_get(b, "t"), "12.5") == 0, "a copy owns its state lines");
+	mesh_state_set(sc, "x", "1");
+	mesh_state_del(sc, "t");
+	mesh_state_del(sc, "nothing");
+	ok(sc->nstate == 2 && mesh_state_get(sc, "t") == NULL &&
+	   strcmp(mesh_state_get(sc, "rng"), "taus2 00ff  x y") == 0 &&
+	   strcmp(mesh_state_get(sc, "x"), "1") == 0, "state del removes one line, keeps the others");
 	mesh_state_clear(sc);
 	ok(sc->nstate == 0 && mesh_state_get(sc, "t") == NULL &&
 	   mesh_state_set(sc, "1x", "a") == MESH_EDOM, "state cleared; bad names refused");

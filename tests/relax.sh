@@ -3,7 +3,7 @@
 # keeps params and history, reports on stderr, refuses bad usage, and says
 # honestly when a tolerance cannot be reached (exit 3 only with --strict).
 . "$(dirname "$0")/lib.sh"
-plan 19
+plan 24
 
 tis-hex 6 6 >"$T/hex.mesh"
 # A perturbed copy: displacements up to 0.05 (awk, deterministic).
@@ -42,7 +42,12 @@ done
 
 # A tolerance it cannot reach: message, exit 0, or exit 3 with --strict.
 fails_with 3 "--strict: exit 3 when ftol is missed" tis-relax --quiet --strict --maxeval 5 "$T/pert.mesh"
-ok "without --strict a missed ftol exits 0" sh -c "tis-relax --maxeval 5 '$T/pert.mesh' >'$T/o' 2>'$T/e' && grep -q 'did not reach max force' '$T/e' && grep -q '^end' '$T/o'"
+fails_with 3 "by default too: exit 3 when ftol is missed" tis-relax --quiet --maxeval 5 "$T/pert.mesh"
+ok "--accept: a missed ftol exits 0, says so, writes the mesh with a note" sh -c "tis-relax --accept --maxeval 5 '$T/pert.mesh' >'$T/o' 2>'$T/e' && grep -q 'did not reach max force' '$T/e' && grep -q '^end' '$T/o' && grep -q '^history tis-relax.* # short of max force 1e-10: stopped at' '$T/o'"
+ok "exit 3 still writes the mesh" sh -c "tis-relax --quiet --maxeval 5 '$T/pert.mesh' 2>/dev/null | tis-info --check"
+fails_with 2 "--strict with --accept" tis-relax --strict --accept "$T/pert.mesh"
+fails_with 2 "--no-polish with newton (a no-op)" tis-relax --no-polish "$T/pert.mesh"
+ok "--help names -q" sh -c "tis-relax --help | grep -q -- '-q, --quiet'"
 
 fails_with 2 "--ftol nan" tis-relax --ftol nan "$T/pert.mesh"
 fails_with 2 "--algo bogus" tis-relax --algo bogus "$T/pert.mesh"

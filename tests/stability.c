@@ -133,7 +133,7 @@ static double grid_vs_dense(const mesh *m, const model *p, int j, int *npts)
 }
 
 /* The model's right-hand side at (r, dg) for the active junctions sel
- * (DESIGN.md): dr/dt = -grad (W + sum dg l), d(dg)/dt = -dg rate -
+ * (doc/DESIGN.md): dr/dt = -grad (W + sum dg l), d(dg)/dt = -dg rate -
  * (gamma0 + dg) (dl/dt)/l.  out: 2 nv + nt values. */
 static void rhs(const mesh *m, const model *p, const int *sel, int nt, double rate,
                 double gamma0, const double *x, double *out, energy_ws *ws, double *dgall)

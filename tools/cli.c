@@ -8,6 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* OpenBLAS's own call (LIBS links it by name). */
+void openblas_set_num_threads(int n);
+
 const char *cli_name = "tis";
 static const char *cli_usage_line = "";
 static int cli_argc;
@@ -26,6 +29,11 @@ void cli_init(const char *name, const char *usage, int argc, char *const argv[])
 	opterr = 0; /* getopt's own messages would name argv[0], not cli_name */
 	/* GSL's default handler aborts; libmesh checks GSL's status codes */
 	gsl_set_error_handler_off();
+	/* One BLAS thread unless asked: a second was slower for the dense
+	 * eigensolvers on a shared 2-core machine, where waiting threads spin
+	 * (bench/RESULTS.md, tis-stability) */
+	if (getenv("OPENBLAS_NUM_THREADS") == NULL)
+		openblas_set_num_threads(1);
 }
 
 static void vmsg(const char *fmt, va_list ap)
@@ -183,6 +191,11 @@ void cli_history(mesh *m)
 
 void cli_history_note(mesh *m, const char *note)
 {
+	if (m->nhist == 0) {
+		if (mesh_history_add(m, note) != MESH_OK)
+			cli_die(EXIT_INPUT, "out of memory");
+		return;
+	}
 	char *h = m->hist[m->nhist - 1];
 	size_t n = strlen(h) + strlen(note) + 4;
 	char *s = realloc(h, n);

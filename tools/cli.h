@@ -67,6 +67,9 @@ void cli_write_mesh(const mesh *m);
 /* Add the command line given to cli_init as a history line; exit 1 if out
  * of memory. */
 void cli_history(mesh *m);
+/* Append " # note" to the last history line (what the run did not finish,
+ * how it ended); exit 1 if out of memory. */
+void cli_history_note(mesh *m, const char *note);
 
 /* Append a shell comment (" # note") to the last history line, the one
  * cli_history added: how the run ended.  Exit 1 if out of memory. */

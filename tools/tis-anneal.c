@@ -206,8 +206,24 @@ static int observe(dyn *d, void *data)
 	dyn_counts c;
 	dyn_counts_get(d, &c);
 	if (u->o->every > 0 && c.t >= u->next_frame) {
-		printf("# %s frame t %.10g\n", cli_name, c.t);
-		cli_write_mesh(u->m);
+		/* the final mesh is the frame at the end: not twice */
+		if (c.t < u->total * (1 - 1e-12)) {
+			/* a frame carries its time (tis-info, tis-vtk read it);
+			 * the mesh goes on with the state lines it had */
+			const char *had = mesh_state_get(u->m, "t");
+			char ts[32], old[64] = "";
+			if (had)
+				snprintf(old, sizeof old, "%s", had);
+			snprintf(ts, sizeof ts, "%.17g", c.t);
+			if (mesh_state_set(u->m, "t", ts) != MESH_OK)
+				cli_die(EXIT_INPUT, "out of memory");
+			printf("# %s frame t %.10g\n", cli_name, c.t);
+			cli_write_mesh(u->m);
+			if (!had)
+				mesh_state_del(u->m, "t");
+			else if (mesh_state_set(u->m, "t", old) != MESH_OK)
+				cli_die(EXIT_INPUT, "out of memory");
+		}
 		while (u->next_frame <= c.t)
 			u->next_frame = ++u->kframe * u->o->every;
 	}
@@ -249,7 +265,11 @@ int main(int argc, char **argv)
 		u.log = fopen(o.log, "w");
 		if (u.log == NULL)
 			cli_die(EXIT_INPUT, "%s: cannot open for writing", o.log);
-		fprintf(u.log, "# t\tf6\tenergy\tt1\n");
+		/* the mesh's history without this command line, which
+		 * cli_table_header adds */
+		mesh h = *m;
+		h.nhist--;
+		cli_table_header(u.log, &h, "t\tf6\tenergy\tt1");
 	}
 	mesh_error err;
 	if (dyn_alloc(m, &p, &o.d, o.seed, &u.d, &err) != MESH_OK)

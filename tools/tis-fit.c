@@ -10,7 +10,7 @@
 #include "fit.h"
 
 static const char usage[] =
-	"[--degree N] [--window W] [--branch out|back|all] [--cusps [--threshold T]] [--summary] [TABLE]";
+	"[--degree N] [--window W] [--branch out|back|all] [--max-fres F] [--cusps [--threshold T]] [--summary] [TABLE]";
 static const char help[] =
 	"Read the f(l) table of tis-forcelen and fit, per junction, f(l) =\n"
 	"sum_k a_k (l - l0)^k by linear least squares over |l - l0| <= W.\n"
@@ -21,6 +21,8 @@ static const char help[] =
 	"  --branch B       out: the rest point and the legs away from l0\n"
 	"                   (default); back: the rest point and the return legs;\n"
 	"                   all: every row\n"
+	"  --max-fres F     leave out points whose residual force fres exceeds F\n"
+	"                   (they are not at a constrained minimum; default: keep all)\n"
 	"  --cusps          list instead the runs of points, ordered by l, where\n"
 	"                   |f| < T (--threshold T, 1e-3)\n"
 	"  --summary        per p0, the quartiles of a1 and a3 over junctions\n"
@@ -28,22 +30,27 @@ static const char help[] =
 	"  --version        print the version\n"
 	"\n"
 	"Fit columns: p0 j a b l0 n a0 a1 a1_err a2 a2_err a3 a3_err rms (n\n"
-	"points, standard errors from the residuals, rms residual).  Summary:\n"
+	"points, standard errors from the residuals, rms residual, fres_max the\n"
+	"largest fres of the points fitted, nan if the table has no fres).  Summary:\n"
 	"p0 n a1_q1 a1_med a1_q3 a3_q1 a3_med a3_q3.  Cusps: p0 j a b l0 from to\n"
-	"npts has_l0.\n";
+	"npts has_l0.  Input: '#' lines are provenance; the first other line\n"
+	"names the columns (an old '# p0 j ...' line naming them works too); a\n"
+	"later line whose first field is not a number names them anew (tables\n"
+	"joined by cat).\n";
 
 enum { BR_OUT, BR_BACK, BR_ALL };
 
 struct opts {
 	int degree;
-	double window, threshold;
+	double window, threshold, max_fres;
 	int branch, cusps, summary;
 	const char *input;
 };
 
 static struct opts parse(int argc, char **argv)
 {
-	enum { O_DEG = 256, O_WIN, O_BRANCH, O_CUSPS, O_THR, O_SUMMARY, O_VERSION };
+	enum { O_DEG = 256, O_WIN, O_BRANCH, O_CUSPS, O_THR, O_SUMMARY, O_VERSION,
+	       O_MAXFRES };
 	static const struct option lo[] = {
 		{ "degree", required_argument, NULL, O_DEG },
 		{ "window", required_argument, NULL, O_WIN },
@@ -51,11 +58,14 @@ static struct opts parse(int argc, char **argv)
 		{ "cusps", no_argument, NULL, O_CUSPS },
 		{ "threshold", required_argument, NULL, O_THR },
 		{ "summary", no_argument, NULL, O_SUMMARY },
+		{ "max-fres", required_argument, NULL, O_MAXFRES },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
-	struct opts o = { .degree = 5, .window = 0.1, .threshold = 1e-3, .branch = BR_OUT };
+	struct opts o = { .degree = 5, .window = 0.1, .threshold = 1e-3, .branch = BR_OUT,
+	                 .max_fres = INFINITY };
+	int has_thr = 0;
 	int c;
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
 		switch (c) {
@@ -72,7 +82,8 @@ static struct opts parse(int argc, char **argv)
 				cli_usage_error("--branch: expected out, back or all, got '%s'", optarg);
 			break;
 		case O_CUSPS: o.cusps = 1; break;
-		case O_THR: o.threshold = cli_double_range("--threshold", optarg, 0, 1e6); break;
+		case O_THR: o.threshold = cli_double_range("--threshold", optarg, 0, 1e6); has_thr = 1; break;
+		case O_MAXFRES: o.max_fres = cli_double_range("--max-fres", optarg, 0, 1e6); break;
 		case O_SUMMARY: o.summary = 1; break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
@@ -81,6 +92,8 @@ static struct opts parse(int argc, char **argv)
 	}
 	if (o.cusps && o.summary)
 		cli_usage_error("--cusps and --summary exclude each other");
+	if (has_thr && !o.cusps)
+		cli_usage_error("--threshold works only with --cusps");
 	if (argc - optind > 1)
 		cli_usage_error("at most one input file");
 	o.input = optind < argc ? argv[optind] : NULL;
@@ -88,8 +101,10 @@ static struct opts parse(int argc, char **argv)
 }
 
 /* Column positions, found by name in the header. */
-enum { C_P0, C_J, C_A, C_B, C_L0, C_DIR, C_L, C_F, NCOL };
-static const char *colname[NCOL] = { "p0", "j", "a", "b", "l0", "dir", "l", "f" };
+enum { C_P0, C_J, C_A, C_B, C_L0, C_DIR, C_L, C_F, C_FRES, NCOL };
+static const char *colname[NCOL] = { "p0", "j", "a", "b", "l0", "dir", "l", "f", "fres" };
+/* a, b and fres may be missing */
+static int col_optional(int k) { return k == C_A || k == C_B || k == C_FRES; }
 
 /* One curve being collected. */
 struct curve {
@@ -97,6 +112,7 @@ struct curve {
 	long j, a, b;
 	int n, cap;
 	double *l, *f;
+	double fres_max; /* of the points fitted, NAN when the table has none */
 	long line;     /* its first input line, for messages */
 };
 
@@ -165,6 +181,7 @@ static void finish_curve(const struct opts *o, struct curve *c)
 			       c->a, c->b, c->l0, cs[i].lfrom, cs[i].lto, cs[i].npts, cs[i].has_l0);
 		free(cs);
 		c->n = 0;
+		c->fres_max = NAN;
 		return;
 	}
 	fit_result r;
@@ -181,9 +198,10 @@ static void finish_curve(const struct opts *o, struct curve *c)
 	if (o->summary)
 		add_summary(c->p0, a1, a3);
 	else
-		printf("%.10g\t%ld\t%ld\t%ld\t%.12g\t%d\t%.8g\t%.10g\t%.3g\t%.10g\t%.3g\t%.10g\t%.3g\t%.3g\n",
-		       c->p0, c->j, c->a, c->b, c->l0, r.n, r.a[0], a1, e1, a2, e2, a3, e3, r.rms);
+		printf("%.10g\t%ld\t%ld\t%ld\t%.12g\t%d\t%.8g\t%.10g\t%.3g\t%.10g\t%.3g\t%.10g\t%.3g\t%.3g\t%.3g\n",
+		       c->p0, c->j, c->a, c->b, c->l0, r.n, r.a[0], a1, e1, a2, e2, a3, e3, r.rms, c->fres_max);
 	c->n = 0;
+	c->fres_max = NAN;
 }
 
 /* Split s at tabs and spaces into at most max fields. */
@@ -206,6 +224,35 @@ static double num(const char *s, const char *col, long line)
 	return v;
 }
 
+static int is_number(const char *s)
+{
+	char *end;
+	strtod(s, &end);
+	return end != s && *end == '\0';
+}
+
+/* Find the columns by name in fld[0..n).  Every required column present:
+ * set col and return 1.  Otherwise return 0, or with strict (a line that
+ * can only be column names) exit naming the first missing column. */
+static int find_columns(char **fld, int n, int *col, long line, int strict)
+{
+	int tmp[NCOL];
+	for (int k = 0; k < NCOL; k++) {
+		tmp[k] = -1;
+		for (int i = 0; i < n; i++)
+			if (strcmp(fld[i], colname[k]) == 0)
+				tmp[k] = i;
+		if (tmp[k] < 0 && !col_optional(k)) {
+			if (strict)
+				cli_die(EXIT_INPUT, "%s:%ld: header has no column '%s'",
+				        input_name, line, colname[k]);
+			return 0;
+		}
+	}
+	memcpy(col, tmp, sizeof tmp);
+	return 1;
+}
+
 int main(int argc, char **argv)
 {
 	cli_init("tis-fit", usage, argc, argv);
@@ -215,50 +262,58 @@ int main(int argc, char **argv)
 
 	int col[NCOL] = { 0 };
 	int have_header = 0, ncols = 0;
-	struct curve c = { 0 };
+	struct curve c = { .fres_max = NAN };
 	char *buf = NULL;
 	size_t bufsz = 0;
 	long line = 0;
 	int rows = 0;
-	if (o.cusps)
-		printf("# p0\tj\ta\tb\tl0\tfrom\tto\tnpts\thas_l0\n");
-	else if (o.summary)
-		printf("# p0\tn\ta1_q1\ta1_med\ta1_q3\ta3_q1\ta3_med\ta3_q3\n");
-	else
-		printf("# p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\n");
+	/* The table's provenance: the input's '#' lines before its first row
+	 * (the command lines that made it), then this command line.  A mesh
+	 * with no cells carries them as its history. */
+	mesh *prov = mesh_alloc(1, 1);
+	if (prov == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	const char *cols = o.cusps ? "p0\tj\ta\tb\tl0\tfrom\tto\tnpts\thas_l0"
+		: o.summary ? "p0\tn\ta1_q1\ta1_med\ta1_q3\ta3_q1\ta3_med\ta3_q3"
+		: "p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\tfres_max";
 
 	while (getline(&buf, &bufsz, in) != -1) {
 		line++;
 		char *fld[64];
 		char *s = buf + strspn(buf, " \t");
+		int n;
 		if (*s == '#') {
-			/* A header (again, when tables were concatenated): find the
-			 * columns by name; other comments are skipped. */
-			int n = split(s + 1, fld, 64), found = 0;
-			int tmp[NCOL];
-			for (int k = 0; k < NCOL; k++) {
-				tmp[k] = -1;
-				for (int i = 0; i < n; i++)
-					if (strcmp(fld[i], colname[k]) == 0)
-						tmp[k] = i;
-				found += tmp[k] >= 0;
+			/* provenance, or an old-style '# p0 j ...' header: that is
+			 * a '#' line naming every column needed */
+			int added = 0;
+			if (rows == 0) {
+				char *t = s + 1 + strspn(s + 1, " ");
+				t[strcspn(t, "\r\n")] = '\0';
+				if (*t && mesh_history_add(prov, t) != MESH_OK)
+					cli_die(EXIT_INPUT, "out of memory");
+				added = *t != '\0';
 			}
-			if (found == 0)
-				continue;
-			for (int k = 0; k < NCOL; k++)
-				if (tmp[k] < 0 && k != C_A && k != C_B)
-					cli_die(EXIT_INPUT, "%s:%ld: header has no column '%s'",
-					        input_name, line, colname[k]);
-			memcpy(col, tmp, sizeof col);
+			n = split(s + 1, fld, 64);
+			if (find_columns(fld, n, col, line, 0)) {
+				if (added)   /* an old header is no provenance */
+					free(prov->hist[--prov->nhist]);
+				ncols = n;
+				have_header = 1;
+			}
+			continue;
+		}
+		n = split(s, fld, 64);
+		if (n == 0)
+			continue;
+		if (!is_number(fld[0])) {
+			/* the column names, first or again after cat */
+			find_columns(fld, n, col, line, 1);
 			ncols = n;
 			have_header = 1;
 			continue;
 		}
-		int n = split(s, fld, 64);
-		if (n == 0)
-			continue;
 		if (!have_header)
-			cli_die(EXIT_INPUT, "%s:%ld: data before the '#' header line", input_name, line);
+			cli_die(EXIT_INPUT, "%s:%ld: data before the line of column names", input_name, line);
 		if (n != ncols)
 			cli_die(EXIT_INPUT, "%s:%ld: %d fields, the header names %d",
 			        input_name, line, n, ncols);
@@ -278,7 +333,8 @@ int main(int argc, char **argv)
 		if (!isrest && !isout && !isback)
 			cli_die(EXIT_INPUT, "%s:%ld: column dir: expected rest, out or back, got '%s'",
 			        input_name, line, dir);
-		rows++;
+		if (rows++ == 0)
+			cli_table_header(stdout, prov, cols);
 		if (c.n > 0 && (c.p0 != p0 || c.j != (long)jd || c.l0 != l0))
 			finish_curve(&o, &c);
 		if (c.n == 0) {
@@ -290,8 +346,12 @@ int main(int argc, char **argv)
 			c.line = line;
 		}
 		int use = o.branch == BR_ALL || isrest || (o.branch == BR_OUT ? isout : isback);
-		if (!use)
+		double fres = col[C_FRES] >= 0 ? num(fld[col[C_FRES]], "fres", line) : NAN;
+		if (!use || fres > o.max_fres)
 			continue;
+		if (!isnan(fres) && (isnan(c.fres_max) || fres > c.fres_max) &&
+		    (o.cusps || fit_in_window(l - l0, o.window)))
+			c.fres_max = fres;
 		int cap = c.cap;
 		grow((void **)&c.l, &c.cap, c.n + 1, sizeof *c.l);
 		if (c.cap != cap) {
@@ -311,6 +371,7 @@ int main(int argc, char **argv)
 	if (rows == 0)
 		cli_die(EXIT_INPUT, "%s: no data rows", input_name);
 	finish_curve(&o, &c);
+	mesh_free(prov);
 	if (o.summary)
 		for (int i = 0; i < groups.n; i++) {
 			struct group *g = &groups.g[i];

@@ -106,8 +106,13 @@ static struct opts parse(int argc, char **argv)
 	};
 	struct opts o = { .sel = SEL_NONE, .seed = 1, .relax = 1, .threads = 2 };
 	fl_opts_init(&o.fl);
+	const char *sweep_opt = NULL;   /* the first option only a sweep uses */
 	int c;
-	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+	int li;
+	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
+		if (sweep_opt == NULL && (c == O_STEP || c == O_RANGE || c == O_LMIN || c == O_NOBACK ||
+		                          c == O_PRED || c == O_ALGO || c == O_MAXEVAL || c == O_NOPC))
+			sweep_opt = lo[li].name;
 		switch (c) {
 		case O_JUNCTION:
 			set_sel(&o, SEL_PAIR);
@@ -147,6 +152,8 @@ static struct opts parse(int argc, char **argv)
 	}
 	if (o.sel == SEL_NONE)
 		cli_usage_error("choose junctions with --junction, --index, --random or --all");
+	if (o.linear && sweep_opt)
+		cli_usage_error("--linear sweeps nothing: --%s does nothing with it", sweep_opt);
 	if (o.fl.range / o.fl.step > 1e6)
 		cli_usage_error("--range/--step: more than 1e6 points per leg");
 	if (argc - optind > 1)
@@ -175,6 +182,12 @@ static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 	}
 	if (st != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
+	int nshort = 0;
+	for (int k = 0; k < n && !o->linear; k++)
+		nshort += junction_length(m, m->r, sel[k]) <= o->fl.lmin;
+	if (nshort)
+		cli_warn("%d of %d junctions are no longer than --lmin %g: no inward legs for them",
+		         nshort, n, o->fl.lmin);
 	*count = n;
 	return sel;
 }
@@ -215,12 +228,12 @@ static void *worker(void *arg)
 	return NULL;
 }
 
-static void print_header(int linear)
+/* Provenance (the first mesh's history and this command line), then the
+ * column names. */
+static void print_header(const mesh *m, int linear)
 {
-	if (linear)
-		printf("# p0\tj\ta\tb\tl0\ta1\tnzero\tnneg\n");
-	else
-		printf("# p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres\n");
+	cli_table_header(stdout, m, linear ? "p0\tj\ta\tb\tl0\ta1\tnzero\tnneg"
+	                                   : "p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres");
 }
 
 /* Bring the mesh to rest at p if it is not, so that l0 is a rest length. */
@@ -262,7 +275,7 @@ int main(int argc, char **argv)
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		/* the header waits for a valid mesh: bad input leaves no output */
 		if (nmesh++ == 0)
-			print_header(o.linear);
+			print_header(m, o.linear);
 		model p = model_from_mesh(m);
 		if (o.has_p0)
 			p.p0 = o.p0;

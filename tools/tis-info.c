@@ -1,35 +1,60 @@
 /* tis-info - counts, statistics and validity of each mesh in a stream. */
 #include <getopt.h>
+#include <math.h>
 #include <stdlib.h>
 
 #include "cli.h"
 #include "geom.h"
+#include "measure.h"
 
-static const char usage[] = "[--check] [--tsv] [--p0 X] [--ka Y] [MESH]";
+static const char usage[] =
+	"[--check | --tsv | --cells | --junctions] [--p0 X] [--ka Y] [MESH]";
 static const char help[] =
 	"Print statistics of every mesh in a tismesh stream (file or stdin):\n"
 	"counts, side histogram, hexagon fraction f6, energy, largest vertex\n"
 	"force, junction lengths, mean shape index and the area-sum check.\n"
 	"\n"
 	"  --check      only validate: print nothing, exit 1 on the first invalid mesh\n"
-	"  --tsv        one row per frame under a '#' header instead of key value lines\n"
+	"  --tsv        a table, one row per frame, instead of key value lines\n"
+	"  --cells      a table, one row per cell of every frame\n"
+	"  --junctions  a table, one row per junction of every frame\n"
 	"  --p0 X       shape index for the energy (default: the mesh's, else 3.6)\n"
 	"  --ka Y       area modulus for the energy (default: the mesh's, else 100)\n"
 	"  -h, --help   this help\n"
-	"  --version    print the version\n";
+	"  --version    print the version\n"
+	"\n"
+	"Tables start with '#' lines (the first mesh's history, this command),\n"
+	"then a line of column names.  t is the frame's time (a 'state t' line\n"
+	"or a 't' note in the last history line), nan when the mesh has none.\n"
+	"--tsv: frame nv nc nj f6 energy max_force min_length mean_length\n"
+	"max_length mean_shape area_error t p0 ka lx ly.  --cells: frame t cell\n"
+	"sides area perimeter shape cx cy (shape = P/sqrt(A), c the centroid).\n"
+	"--junctions: frame t j a b c1 c2 length tension dg (tension = 2(P1-p0)\n"
+	"+ 2(P2-p0) + dg, dg the active tension).\n";
+
+enum { OUT_KEYS, OUT_CHECK, OUT_TSV, OUT_CELLS, OUT_JUNCTIONS };
 
 struct opts {
-	int check, tsv;
+	int out;
 	int has_p0, has_ka;
 	double p0, ka;
 	const char *path;
 };
+
+static void set_out(struct opts *o, int out)
+{
+	if (o->out != OUT_KEYS && o->out != out)
+		cli_usage_error("choose one of --check, --tsv, --cells, --junctions");
+	o->out = out;
+}
 
 static struct opts parse(int argc, char **argv)
 {
 	static const struct option lo[] = {
 		{ "check", no_argument, NULL, 'c' },
 		{ "tsv", no_argument, NULL, 't' },
+		{ "cells", no_argument, NULL, 'C' },
+		{ "junctions", no_argument, NULL, 'J' },
 		{ "p0", required_argument, NULL, 'p' },
 		{ "ka", required_argument, NULL, 'k' },
 		{ "help", no_argument, NULL, 'h' },
@@ -40,8 +65,10 @@ static struct opts parse(int argc, char **argv)
 	int c;
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
 		switch (c) {
-		case 'c': o.check = 1; break;
-		case 't': o.tsv = 1; break;
+		case 'c': set_out(&o, OUT_CHECK); break;
+		case 't': set_out(&o, OUT_TSV); break;
+		case 'C': set_out(&o, OUT_CELLS); break;
+		case 'J': set_out(&o, OUT_JUNCTIONS); break;
 		case 'p': o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
 		case 'k': o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
 		case 'h': cli_help(help);
@@ -49,6 +76,8 @@ static struct opts parse(int argc, char **argv)
 		default: cli_bad_option(argv, c);
 		}
 	}
+	if (o.out == OUT_CHECK && (o.has_p0 || o.has_ka))
+		cli_usage_error("--check validates only: --p0 and --ka do nothing with it");
 	if (argc - optind > 1)
 		cli_usage_error("at most one mesh file");
 	o.path = optind < argc ? argv[optind] : NULL;
@@ -59,7 +88,11 @@ static void print_keys(long frame, const mesh *m, const model *p, const mesh_sta
 {
 	if (frame > 0)
 		putchar('\n');
-	printf("frame %ld\nvertices %d\ncells %d\njunctions %d\n", frame, s->nv, s->nc, s->nj);
+	printf("frame %ld\n", frame);
+	double t;
+	if (mesh_time(m, &t))
+		printf("t %.10g\n", t);
+	printf("vertices %d\ncells %d\njunctions %d\n", s->nv, s->nc, s->nj);
 	printf("box %.15g %.15g\np0 %.15g\nka %.15g\nsides", m->lx, m->ly, p->p0, p->ka);
 	for (int n = 0; n < TIS_NSIDES; n++)
 		if (s->hist[n])
@@ -70,6 +103,47 @@ static void print_keys(long frame, const mesh *m, const model *p, const mesh_sta
 	       s->area_sum, s->area_relerr);
 }
 
+static const char *columns[] = {
+	[OUT_TSV] = "frame\tnv\tnc\tnj\tf6\tenergy\tmax_force\tmin_length\tmean_length"
+	            "\tmax_length\tmean_shape\tarea_error\tt\tp0\tka\tlx\tly",
+	[OUT_CELLS] = "frame\tt\tcell\tsides\tarea\tperimeter\tshape\tcx\tcy",
+	[OUT_JUNCTIONS] = "frame\tt\tj\ta\tb\tc1\tc2\tlength\ttension\tdg",
+};
+
+static void print_rows(const struct opts *o, long frame, const mesh *m, const model *p)
+{
+	double t = NAN;
+	mesh_time(m, &t);
+	if (o->out == OUT_TSV) {
+		mesh_stats s;
+		if (mesh_stats_compute(m, p, &s) != MESH_OK)
+			cli_die(EXIT_INPUT, "out of memory");
+		printf("%ld\t%d\t%d\t%d\t%.6f\t%.12g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6f\t%.3g"
+		       "\t%.10g\t%.10g\t%.10g\t%.17g\t%.17g\n",
+		       frame, s.nv, s.nc, s.nj, s.f6, s.energy, s.fmax, s.lmin, s.lmean,
+		       s.lmax, s.shape_mean, s.area_relerr, t, p->p0, p->ka, m->lx, m->ly);
+	} else if (o->out == OUT_CELLS) {
+		for (int k = 0; k < m->nc; k++) {
+			cell_props c;
+			cell_props_get(m, k, &c);
+			printf("%ld\t%.10g\t%d\t%d\t%.12g\t%.12g\t%.12g\t%.12g\t%.12g\n", frame, t,
+			       k, c.sides, c.area, c.perimeter, c.shape, c.cx, c.cy);
+		}
+	} else {
+		double *perim = malloc(((size_t)m->nc + 1) * sizeof *perim);
+		if (perim == NULL)
+			cli_die(EXIT_INPUT, "out of memory");
+		mesh_perimeters(m, perim);
+		for (int j = 0; j < m->nj; j++) {
+			junction_props q;
+			junction_props_get(m, p, perim, j, &q);
+			printf("%ld\t%.10g\t%d\t%d\t%d\t%d\t%d\t%.12g\t%.12g\t%.12g\n", frame, t, j,
+			       q.a, q.b, q.c1, q.c2, q.length, q.tension, q.dg);
+		}
+		free(perim);
+	}
+}
+
 int main(int argc, char **argv)
 {
 	cli_init("tis-info", usage, argc, argv);
@@ -77,25 +151,23 @@ int main(int argc, char **argv)
 	FILE *f = cli_open(o.path);
 	long line = 0, frame = 0;
 	mesh *m;
-	if (o.tsv && !o.check)
-		puts("# frame\tnv\tnc\tnj\tf6\tenergy\tmax_force\tmin_length\tmean_length"
-		     "\tmax_length\tmean_shape\tarea_error");
 	while (cli_read_mesh(f, o.path, &line, &m)) {
-		if (!o.check) {
-			model p = model_from_mesh(m);
-			if (o.has_p0)
-				p.p0 = o.p0;
-			if (o.has_ka)
-				p.ka = o.ka;
+		model p = model_from_mesh(m);
+		if (o.has_p0)
+			p.p0 = o.p0;
+		if (o.has_ka)
+			p.ka = o.ka;
+		if (o.out == OUT_KEYS) {
 			mesh_stats s;
 			if (mesh_stats_compute(m, &p, &s) != MESH_OK)
 				cli_die(EXIT_INPUT, "out of memory");
-			if (o.tsv)
-				printf("%ld\t%d\t%d\t%d\t%.6f\t%.12g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6f\t%.3g\n",
-				       frame, s.nv, s.nc, s.nj, s.f6, s.energy, s.fmax, s.lmin,
-				       s.lmean, s.lmax, s.shape_mean, s.area_relerr);
-			else
-				print_keys(frame, m, &p, &s);
+			print_keys(frame, m, &p, &s);
+		} else if (o.out != OUT_CHECK) {
+			/* the header waits for a valid mesh: its history is the
+			 * table's provenance */
+			if (frame == 0)
+				cli_table_header(stdout, m, columns[o.out]);
+			print_rows(&o, frame, m, &p);
 		}
 		mesh_free(m);
 		frame++;

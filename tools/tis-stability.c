@@ -46,9 +46,6 @@ static const char help[] =
 
 enum { SEL_ALL, SEL_PAIR, SEL_INDEX, SEL_LIST };
 
-/* OpenBLAS's own call (the library is linked by name). */
-void openblas_set_num_threads(int n);
-
 struct opts {
 	int sel, nsel;
 	long va, vb, index;
@@ -72,8 +69,11 @@ static double *positive_list(const char *opt, const char *arg, int *n, int inver
 {
 	double *v = cli_double_list(opt, arg, n);
 	for (int i = 0; i < *n; i++) {
-		if (!(v[i] > 0))
-			cli_usage_error("%s: every value must be > 0 (got %g)", opt, v[i]);
+		if (!(v[i] > 0)) {
+			double bad = v[i];
+			free(v);   /* exit checks for leaks under ASan */
+			cli_usage_error("%s: every value must be > 0 (got %g)", opt, bad);
+		}
 		if (invert)
 			v[i] = 1 / v[i];
 	}
@@ -129,9 +129,12 @@ static struct opts parse(int argc, char **argv)
 			free(o.gamma0);
 			o.gamma0 = cli_double_list("--gamma0", optarg, &o.ngamma0);
 			for (int i = 0; i < o.ngamma0; i++)
-				if (!(o.gamma0[i] >= 0))
-					cli_usage_error("--gamma0: every value must be >= 0 (got %g)",
-					                o.gamma0[i]);
+				if (!(o.gamma0[i] >= 0)) {
+					double bad = o.gamma0[i];
+					free(o.gamma0);
+					free(o.rate);
+					cli_usage_error("--gamma0: every value must be >= 0 (got %g)", bad);
+				}
 			break;
 		case O_P0: o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
 		case O_KA: o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
@@ -261,7 +264,7 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 	print_header(o, m);
 	for (int k = 0; k < count && !cli_stop; k++) {
 		stab_jn_set(sd, m, sel[k], jn);
-		for (int r = 0; r < o->nrate; r++) {
+		for (int r = 0; r < o->nrate && !cli_stop; r++) {
 			double rate = o->rate[r];
 			if (o->gamma0 == NULL) {
 				stab_crit c;
@@ -277,7 +280,7 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 				putchar('\n');
 				continue;
 			}
-			for (int g = 0; g < o->ngamma0; g++) {
+			for (int g = 0; g < o->ngamma0 && !cli_stop; g++) {
 				double re = NAN, im = NAN;
 				if (nneg == 0 && stab_leading(jn, rate, o->gamma0[g], &re, &im) != MESH_OK)
 					cli_die(EXIT_NOCONV, "junction %d, rate %g, gamma0 %g: no root found",
@@ -300,10 +303,6 @@ int main(int argc, char **argv)
 {
 	cli_init("tis-stability", usage, argc, argv);
 	struct opts o = parse(argc, argv);
-	/* one BLAS thread unless asked: measured as fast at these sizes on a
-	 * shared machine, where waiting threads spin (bench/RESULTS.md) */
-	if (getenv("OPENBLAS_NUM_THREADS") == NULL)
-		openblas_set_num_threads(1);
 	cli_catch_signals();
 	FILE *in = cli_open(o.input);
 	long line = 0;
@@ -329,6 +328,7 @@ int main(int argc, char **argv)
 	free(o.rate);
 	free(o.gamma0);
 	if (cli_stop) {
+		printf("# interrupted: the table ends early\n");
 		fflush(stdout);
 		cli_die(EXIT_NOCONV, "interrupted: the table ends early");
 	}

@@ -1,0 +1,84 @@
+/* measure.c - per-cell and per-junction quantities, a frame's time. */
+#include "measure.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void cell_props_get(const mesh *m, int k, cell_props *c)
+{
+	int s = m->coff[k], e = m->coff[k + 1];
+	const double *r = m->r;
+	double x0 = r[2 * m->cv[s]], y0 = r[2 * m->cv[s] + 1];
+	/* centroid of the polygon unwrapped around its first vertex, relative
+	 * to that vertex (small numbers, no cancellation) */
+	double a2 = 0, sx = 0, sy = 0, px = 0, py = 0;
+	for (int i = s + 1; i < e; i++) {
+		double qx = r[2 * m->cv[i]] + m->cimg[2 * i] - x0;
+		double qy = r[2 * m->cv[i] + 1] + m->cimg[2 * i + 1] - y0;
+		double w = px * qy - py * qx;
+		a2 += w;
+		sx += (px + qx) * w;
+		sy += (py + qy) * w;
+		px = qx;
+		py = qy;
+	}
+	c->sides = e - s;
+	c->area = 0.5 * a2;
+	c->perimeter = cell_perimeter(m, r, k);
+	c->shape = c->area > 0 ? c->perimeter / sqrt(c->area) : NAN;
+	double cx = x0 + (a2 != 0 ? sx / (3 * a2) : 0);
+	double cy = y0 + (a2 != 0 ? sy / (3 * a2) : 0);
+	c->cx = cx - m->lx * floor(cx / m->lx);
+	c->cy = cy - m->ly * floor(cy / m->ly);
+}
+
+void mesh_perimeters(const mesh *m, double *perim)
+{
+	for (int k = 0; k < m->nc; k++)
+		perim[k] = cell_perimeter(m, m->r, k);
+}
+
+void junction_props_get(const mesh *m, const model *p, const double *perim, int j,
+                        junction_props *q)
+{
+	q->a = m->jv[2 * j];
+	q->b = m->jv[2 * j + 1];
+	q->c1 = m->jc[2 * j];
+	q->c2 = m->jc[2 * j + 1];
+	q->length = junction_length(m, m->r, j);
+	q->dg = m->dg ? m->dg[j] : 0;
+	q->tension = 2 * (perim[q->c1] - p->p0) + 2 * (perim[q->c2] - p->p0) + q->dg;
+}
+
+/* A finite number at s followed by a delimiter: 1 and *v, else 0. */
+static int number_at(const char *s, double *v)
+{
+	char *end;
+	double x = strtod(s, &end);
+	if (end == s || !isfinite(x) || (*end && *end != ',' && *end != ';' && !isspace((unsigned char)*end)))
+		return 0;
+	*v = x;
+	return 1;
+}
+
+int mesh_time(const mesh *m, double *t)
+{
+	const char *st = mesh_state_get(m, "t");
+	if (st && number_at(st, t))
+		return 1;
+	if (m->nhist == 0)
+		return 0;
+	/* the note after " # " of the last history line, items split by ';' */
+	const char *note = strstr(m->hist[m->nhist - 1], " # ");
+	if (note == NULL)
+		return 0;
+	for (const char *s = note + 3; s && *s; s = strchr(s, ';')) {
+		s += *s == ';';
+		s += strspn(s, " ");
+		if (s[0] == 't' && s[1] == ' ' && number_at(s + 2, t))
+			return 1;
+	}
+	return 0;
+}

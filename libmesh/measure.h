@@ -1,0 +1,39 @@
+/* measure.h - per-cell and per-junction quantities, and a frame's time:
+ * what tables (tis-info --cells, --junctions) and pictures (tis-vtk) show.
+ */
+#ifndef TIS_MEASURE_H
+#define TIS_MEASURE_H
+
+#include "geom.h"
+
+typedef struct {
+	int sides;
+	double area, perimeter;
+	double shape;        /* P / sqrt(A), the observed shape index */
+	double cx, cy;       /* centroid of the unwrapped polygon, wrapped into the box */
+} cell_props;
+
+typedef struct {
+	int a, b;            /* vertices */
+	int c1, c2;          /* the cell in which a->b runs ccw, the other */
+	double length;
+	double dg;           /* active tension, 0 when the mesh has none */
+	double tension;      /* dW/dl + dg = 2 (P1 - p0) + 2 (P2 - p0) + dg: the
+	                        line tension the junction's two cells put on it */
+} junction_props;
+
+/* Cell k of m at its own coordinates.  perim, if not NULL, holds every
+ * cell's perimeter (junction_props needs two of them). */
+void cell_props_get(const mesh *m, int k, cell_props *c);
+void junction_props_get(const mesh *m, const model *p, const double *perim, int j,
+                        junction_props *q);
+
+/* Every cell's perimeter into perim (nc values). */
+void mesh_perimeters(const mesh *m, double *perim);
+
+/* The time of a frame: a "state t VALUE" line (a run's frame), else a
+ * "t VALUE" item in the note of the last history line (tis-anneal's "...;
+ * t 100, 5000 steps"), else not known.  1 and *t set, or 0. */
+int mesh_time(const mesh *m, double *t);
+
+#endif

@@ -1,0 +1,31 @@
+/* vtk.h - VTK XML PolyData (.vtp) and ParaView collections (.pvd), written
+ * as plain ASCII XML so that no VTK library is needed to make them.
+ *
+ * Periodic images: a cell is its polygon unwrapped around its first vertex
+ * (r[cv[i]] + cimg[i], the polygon its area is computed from), so cells on
+ * the box edge stick out of the box; a junction runs from vertex a in the
+ * box to the image of b nearest to it.  Points 0..nv-1 are the vertices in
+ * the box (point id = vertex id); the images that unwrapped cells and
+ * junctions need follow, and the point array "vertex" gives each point's
+ * vertex.  The cells of the dataset are the nj junctions (VTK lines) and
+ * then the nc tissue cells (VTK polygons), VTK's order; cell arrays:
+ * "id" (junction or cell number), "sides" (0 for a line), "area",
+ * "perimeter", "shape" (P/sqrt(A)), and "length", "tension" (2 (P1 - p0)
+ * + 2 (P2 - p0) + dg), "dg", each NaN where it does not apply.
+ */
+#ifndef TIS_VTK_H
+#define TIS_VTK_H
+
+#include <stdio.h>
+#include "geom.h"
+
+/* Write m as one .vtp file; t, if not NULL, as its field data TimeValue.
+ * Points are where m has its vertices: mesh_wrap() m first to have them
+ * in the box.
+ * MESH_ENOMEM, MESH_EIO on a write error. */
+int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t);
+
+/* A .pvd collection of n datasets files[i] at times[i]. MESH_EIO. */
+int vtk_write_pvd(FILE *f, int n, char *const *files, const double *times);
+
+#endif
