@@ -24,7 +24,7 @@ CXXFLAGS ?= $(OPT) -g
 WARN = -Wall -Wextra
 ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -Ilibmesh -DTIS_VERSION='"$(VERSION)"' $(CFLAGS)
 ALL_CXXFLAGS = -std=c++17 $(WARN) -Ilibmesh $(CXXFLAGS)
-LIBS = -lsundials_cvode -lsundials_nvecserial -lnlopt -llapacke -lopenblas -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread
+LIBS = -lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -llapacke -lopenblas -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread
 
 # SAN=1 builds everything with sanitizers into build-san/, apart from the
 # normal objects, so the two never mix.
@@ -100,7 +100,7 @@ bench: all
 	  [ -x "$$b" ] || continue; \
 	  echo "== $$b"; PATH="$(CURDIR)/bin:$$PATH" "$$b" || exit 1; done
 
-DEBS = libgsl-dev libnlopt-dev libcgal-dev libsundials-dev liblapacke-dev libopenblas-dev g++ make perl
+DEBS = libgsl-dev libnlopt-dev libcgal-dev libsuitesparse-dev libsundials-dev liblapacke-dev libopenblas-dev g++ make perl
 # the table and VTK tests use these when present (CI installs them)
 TESTDEBS = python3-pandas gnuplot-nox python3-vtk9 pkgconf
 # the sweeps (studies/): GNU parallel; the SLURM test: slurm-wlm

@@ -31,7 +31,7 @@ err() {
 	  if (k in ref) { d = v - ref[k]; if (d < 0) d = -d; if (d > m) m = d } }
 	END { printf "%.3g", m }' "$1" "$2"
 }
-tc() { sed -n 's/.*# end collapse at t [0-9.e+-]*, t_c \([0-9.e+-]*\);.*/\1/p' "$1" | tail -1; }
+tc() { sed -n 's/.*# end collapse; t [0-9.e+-]*, t_c \([0-9.e+-]*\);.*/\1/p' "$1" | tail -1; }
 # run NAME MESH TIME TRACE ARGS...: CPU seconds, steps, t_c (or -)
 run() {
 	name=$1 mesh=$2 time=$3 trace=$4; shift 4

@@ -373,11 +373,21 @@ static int canonical(act *a, mesh_error *err)
 		pairs[2 * k] = m->jv[2 * a->aj[k]];
 		pairs[2 * k + 1] = m->jv[2 * a->aj[k] + 1];
 	}
+	/* on a copy first: a tissue that became invalid (a cell turned
+	 * inside out) is reported, and m keeps its working arrays */
 	mesh_error e2;
-	int st = mesh_build(m, NULL, &e2);
+	mesh *c = mesh_copy(m);
+	int st = c ? mesh_build(c, NULL, &e2) : MESH_ENOMEM;
+	mesh_free(c);
+	if (st == MESH_OK)
+		st = mesh_build(m, NULL, &e2);
 	if (st != MESH_OK) {
 		free(pairs);
-		return mesh_error_set(err, 0, st, "rebuilding the mesh after T1s: %s", e2.msg);
+		if (st == MESH_ENOMEM)
+			return mesh_error_set(err, 0, st, "out of memory");
+		a->why = ACT_END_NONFINITE;
+		mesh_error_set(err, 0, MESH_EDOM, "the tissue became invalid at t = %.6g: %s", a->t, e2.msg);
+		return MESH_OK;
 	}
 	if (mesh_tension_alloc(m) != MESH_OK) {
 		free(pairs);
@@ -437,6 +447,8 @@ static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end 
 		keep_wrapped(m);
 		if (a->c.nt1 != nt1 && (st = canonical(a, err)) != MESH_OK)
 			return st;
+		if (a->why != ACT_END_TIME)
+			break;
 		if (stop && *stop && a->t < t_end) {
 			a->why = ACT_END_STOP;
 			break;

@@ -136,59 +136,6 @@ int mesh_junction_find(const mesh *m, int a, int b)
 	return -1;
 }
 
-int mesh_junctions_read(FILE *f, const mesh *m, int **out, int *n, mesh_error *err)
-{
-	*out = NULL;
-	*n = 0;
-	int cap = 16, k = 0;
-	int *sel = malloc((size_t)cap * sizeof *sel);
-	char buf[256];
-	long line = 0;
-	while (sel && fgets(buf, sizeof buf, f)) {
-		line++;
-		char *h = strchr(buf, '#');
-		if (h)
-			*h = '\0';
-		long a, b;
-		char extra;
-		int got = sscanf(buf, "%ld %ld %c", &a, &b, &extra);
-		if (got <= 0)
-			continue;
-		int j = -1;
-		if (got == 1 && a >= 0 && a < m->nj)
-			j = (int)a;
-		else if (got == 2 && a >= 0 && b >= 0 && a < m->nv && b < m->nv)
-			j = mesh_junction_find(m, (int)a, (int)b);
-		if (j < 0) {
-			free(sel);
-			return mesh_error_set(err, line, MESH_EINVAL,
-			                      "not a junction of the mesh (%d junctions, %d vertices)",
-			                      m->nj, m->nv);
-		}
-		if (k == cap) {
-			int *t = realloc(sel, (size_t)(cap *= 2) * sizeof *sel);
-			if (t == NULL)
-				free(sel);
-			sel = t;
-		}
-		if (sel)
-			sel[k++] = j;
-	}
-	if (sel == NULL)
-		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	if (ferror(f)) {
-		free(sel);
-		return mesh_error_set(err, line, MESH_EIO, "read error");
-	}
-	if (k == 0) {
-		free(sel);
-		return mesh_error_set(err, 0, MESH_EINVAL, "no junctions in it");
-	}
-	*out = sel;
-	*n = k;
-	return MESH_OK;
-}
-
 int mesh_tension_alloc(mesh *m)
 {
 	if (m->dg)

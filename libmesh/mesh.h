@@ -114,13 +114,6 @@ void mesh_wrap(mesh *m);
 /* The junction joining vertices a and b (either order), or -1. */
 int mesh_junction_find(const mesh *m, int a, int b);
 
-/* A list of junctions of m from f, one a line: a junction number K or
- * the vertex pair A B; blank lines and text after '#' are ignored.
- * *out (malloc'd, *n entries) in file order.  MESH_EINVAL with the line
- * for an entry that names no junction, or for an empty list; MESH_EIO,
- * MESH_ENOMEM. */
-int mesh_junctions_read(FILE *f, const mesh *m, int **out, int *n, mesh_error *err);
-
 /* Give the mesh a tension array (zeros) if it has none.  MESH_ENOMEM. */
 int mesh_tension_alloc(mesh *m);
 

@@ -27,7 +27,7 @@ void min_opts_init(min_opts *o)
 	*o = (min_opts){ .algo = MIN_NEWTON, .ftol = 1e-10, .maxeval = 100000,
 	                 .gnorm = NULL, .polish = 1, .hessvec = NULL,
 	                 .pcsetup = NULL, .pcapply = NULL, .pcmaxit = 6,
-	                 .precond = 1 };
+	                 .precond = 1, .pcmem = 4e9 };
 }
 
 const char *min_algo_name(min_algo a)
@@ -601,6 +601,7 @@ typedef struct {
 	hessian_sparse *hs;   /* preconditioner: the sparse Hessian, */
 	spchol *ch;           /* its factorization (NULL until first needed), */
 	double shift;         /* the last shift used */
+	double pcmem;         /* min_opts.pcmem */
 	int have;             /* ch holds a factor */
 } relax_ctx;
 
@@ -622,6 +623,8 @@ static int relax_pcsetup(const double *x, void *data)
 	rc->have = 0;
 	mesh_hessian_sparse(rc->m, x, rc->p, rc->hs);
 	if (rc->ch == NULL && (rc->ch = spchol_analyze(rc->hs->h)) == NULL)
+		return -1;
+	if (!(spchol_bytes(rc->ch) <= rc->pcmem))
 		return -1;
 	if (spchol_precond(rc->ch, rc->hs->h, &rc->shift) != MESH_OK)
 		return -1;
@@ -669,7 +672,8 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 		return MESH_EDOM;
 	if (m->nv == 0)
 		return MESH_OK;
-	relax_ctx rc = { .m = m, .p = p, .ew = energy_ws_alloc(m), .hw = hessian_ws_alloc(m) };
+	relax_ctx rc = { .m = m, .p = p, .ew = energy_ws_alloc(m), .hw = hessian_ws_alloc(m),
+			 .pcmem = oo.pcmem };
 	if (oo.precond)
 		rc.hs = hessian_sparse_alloc(m);
 	double *x = malloc(2 * (size_t)m->nv * sizeof *x);

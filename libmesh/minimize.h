@@ -60,6 +60,10 @@ typedef struct {
 	int precond;       /* 1 (default): mesh_relax and fl_sweep supply their
 	                      sparse Cholesky preconditioner; 0: plain CG
 	                      (min_run uses pcsetup/pcapply only when set) */
+	double pcmem;      /* mesh_relax: bytes the numeric factorization may
+	                      take (default 4e9); a larger factor (10^6 cells:
+	                      8 GB, bench/RESULTS.md) is not built and CG goes
+	                      on unpreconditioned */
 } min_opts;
 
 typedef struct {
@@ -74,7 +78,7 @@ typedef struct {
 
 /* Defaults: MIN_NEWTON (fastest to every force level in bench/relax.sh,
  * see bench/RESULTS.md) with polish, ftol 1e-10, maxeval 100000, gnorm,
- * hessvec, pcsetup and pcapply NULL, pcmaxit 6, precond 1.  maxeval bounds objective evaluations plus Hessian-vector
+ * hessvec, pcsetup and pcapply NULL, pcmaxit 6, precond 1, pcmem 4e9.  maxeval bounds objective evaluations plus Hessian-vector
  * products together. */
 void min_opts_init(min_opts *o);
 

@@ -1,8 +1,11 @@
-/* sparse.c - sparse symmetric matrices, minimum degree ordering, supernodal
- * left-looking sparse Cholesky with a diagonal shift, single-precision
- * solves. */
+/* sparse.c - sparse symmetric matrices, and their shifted Cholesky
+ * factorization through CHOLMOD (SuiteSparse): AMD ordering (METIS when
+ * AMD's fill is poor), supernodal numeric factorization on LAPACK/BLAS,
+ * double-precision solves. */
 #include "sparse.h"
 #include "mesh.h"
+
+#include <suitesparse/cholmod.h>
 
 #include <math.h>
 #include <stdlib.h>
@@ -138,490 +141,210 @@ void spsym_mulvec(const spsym *a, const double *x, double *y)
 
 /* ---- Cholesky ---- */
 
+/* CHOLMOD does the analysis: its fill-reducing ordering (AMD, or METIS
+ * when AMD's fill is poor) and supernodal symbolic factorization take
+ * time about proportional to the factor, where the hand-written minimum
+ * degree on the explicit elimination graph grew as N^1.65 (2.4 s against
+ * 25 ms at 10^4 cells).  The numeric factorization and the solves are
+ * CHOLMOD's (LAPACK/BLAS on the supernodes, double-precision solves) for
+ * large factors and the hand-written supernodal kernel below (single-
+ * precision solves) for small ones, where CHOLMOD's per-supernode BLAS
+ * and OpenMP calls cost more than the arithmetic: measured on the same
+ * matrices, bench/RESULTS.md (issue 16).  Both run on CHOLMOD's symbolic
+ * structure.  Each spchol owns its cholmod_common (options, statistics,
+ * workspace), so factorizations in different threads share no state. */
 struct spchol {
-	int n;
-	int *perm, *iperm;  /* perm[new] = old, iperm[old] = new */
-	int *lp, *li;       /* structure of L by columns in the new order,
-	                       diagonal first (symbolic only) */
-	/* L by supernodes (runs of columns f..f+w-1 whose structures nest, so
-	 * they share one row list R of m rows, the first w being f..f+w-1): a
+	cholmod_common cm;
+	cholmod_sparse *A;     /* a's pattern, lower triangle (stype -1) */
+	cholmod_factor *L;     /* symbolic; numeric too when big */
+	cholmod_dense *B, *X, *Y, *E;  /* solve workspace, kept between solves */
+	int n, annz;
+	int big;               /* CHOLMOD's numeric factorization and solve */
+	int ok;                /* a usable factor is held */
+	/* The hand-written path.  L by supernodes (runs of columns f..f+w-1
+	 * sharing one row list R of m rows, the first w being f..f+w-1): a
 	 * dense m x w row-major block per supernode (bx), and the same in
 	 * single precision with the diagonal inverted for the solves (bf: a
 	 * preconditioner needs no more, and the solve is bound by memory
 	 * traffic). */
+	const int *perm;       /* perm[new] = old (CHOLMOD's L->Perm) */
 	int nsn;
-	int *sf;            /* nsn + 1: first column of each supernode */
-	int *colsn;         /* n: supernode of each column */
-	long *rp;           /* nsn + 1: offsets into sr */
-	int *sr;            /* row lists */
-	long *bp;           /* nsn + 1: offsets into bx and bf */
+	const int *sf;         /* nsn + 1: first column of each supernode */
+	int *colsn;            /* n: supernode of each column */
+	long *rp;              /* nsn + 1: offsets into sr */
+	const int *sr;         /* row lists (CHOLMOD's L->s) */
+	long *bp;              /* nsn + 1: offsets into bx and bf */
 	double *bx;
 	float *bf;
-	long nnz;
-	int annz;           /* entries of the pattern analyzed for */
-	long *amap;         /* position in bx of each entry of A */
-	double *w;          /* n: scratch */
-	float *yf, *acc;    /* n each: solve scratch */
+	long *amap;            /* position in bx of each entry of A */
+	float *yf, *acc;       /* n each: solve scratch */
 	int *head, *next, *pos, *rel;  /* left-looking update lists, row map */
-	int ok;             /* bf holds a factor */
 };
 
-/* Minimum degree on the explicit elimination graph: eliminating a node
- * makes its neighbours a clique, and that neighbour set is exactly the
- * structure of its column of L, so the symbolic factorization comes out of
- * the ordering.  Adjacency as sorted arrays (merged on elimination), the
- * next node from a heap of (degree, node) with stale entries skipped. */
-typedef struct { int deg, node; } hent;
+/* Above this many entries of L (between 4096 and 10^4 cells) CHOLMOD's
+ * numeric factorization is the faster one; see bench/RESULTS.md. */
+#define SPCHOL_BIG_LNZ 3e6
 
-static int hless(hent a, hent b)
+void spchol_free(spchol *c)
 {
-	return a.deg < b.deg || (a.deg == b.deg && a.node < b.node);
+	if (c == NULL)
+		return;
+	free(c->colsn);
+	free(c->rp);
+	free(c->bp);
+	free(c->bx);
+	free(c->bf);
+	free(c->amap);
+	free(c->yf);
+	free(c->acc);
+	free(c->head);
+	free(c->next);
+	free(c->pos);
+	free(c->rel);
+	cholmod_free_dense(&c->B, &c->cm);
+	cholmod_free_dense(&c->X, &c->cm);
+	cholmod_free_dense(&c->Y, &c->cm);
+	cholmod_free_dense(&c->E, &c->cm);
+	cholmod_free_factor(&c->L, &c->cm);
+	cholmod_free_sparse(&c->A, &c->cm);
+	cholmod_finish(&c->cm);
+	free(c);
 }
 
-static void hpush(hent *h, int *nh, hent e)
+/* The hand-written path's blocks and maps from CHOLMOD's supernodal
+ * symbolic factor, whose row lists are sorted with each supernode's own
+ * columns first. */
+static int own_setup(spchol *c, const spsym *a)
 {
-	int i = (*nh)++;
-	while (i > 0) {
-		int p = (i - 1) / 2;
-		if (!hless(e, h[p]))
-			break;
-		h[i] = h[p];
-		i = p;
-	}
-	h[i] = e;
-}
-
-static hent hpop(hent *h, int *nh)
-{
-	hent top = h[0], e = h[--*nh];
-	int i = 0, n = *nh;
-	for (;;) {
-		int c = 2 * i + 1;
-		if (c >= n)
-			break;
-		if (c + 1 < n && hless(h[c + 1], h[c]))
-			c++;
-		if (!hless(h[c], e))
-			break;
-		h[i] = h[c];
-		i = c;
-	}
-	if (n > 0)
-		h[i] = e;
-	return top;
-}
-
-typedef struct { int *v, len, cap; } ilist;
-
-/* out = (a minus {skip1}) union (b minus {skip2}), all sorted. */
-static int merge(const ilist *a, const int *b, int nb, int skip1, int skip2, ilist *out)
-{
-	int need = a->len + nb;
-	int *v = malloc(((size_t)need + 1) * sizeof *v);
-	if (v == NULL)
-		return -1;
-	int i = 0, k = 0, len = 0;
-	while (i < a->len || k < nb) {
-		int x;
-		if (k >= nb || (i < a->len && a->v[i] < b[k]))
-			x = a->v[i++];
-		else if (i >= a->len || b[k] < a->v[i])
-			x = b[k++];
-		else {
-			x = a->v[i++];
-			k++;
-		}
-		if (x == skip1 || x == skip2)
-			continue;
-		v[len++] = x;
-	}
-	out->v = v;
-	out->len = len;
-	out->cap = need;
-	return 0;
-}
-
-/* a minus {x} equals b minus {y} (sorted lists). */
-static int same_but(const ilist *a, int x, const ilist *b, int y)
-{
-	int i = 0, k = 0;
-	for (;;) {
-		while (i < a->len && a->v[i] == x)
-			i++;
-		while (k < b->len && b->v[k] == y)
-			k++;
-		if (i == a->len || k == b->len)
-			return i == a->len && k == b->len;
-		if (a->v[i++] != b->v[k++])
-			return 0;
-	}
-}
-
-/* Fundamental supernodes: column k joins k-1's when its structure is
- * that of k-1 without k-1's first off-diagonal row, which must be k. */
-static int supernodes(spchol *c)
-{
-	const int n = c->n;
-	int *lp = c->lp, *li = c->li;
-	c->sf = malloc(((size_t)n + 2) * sizeof *c->sf);
-	if (c->sf == NULL)
-		return -1;
-	c->nsn = 0;
-	for (int j = 0; j < n;) {
-		int k = j + 1;
-		while (k < n && k - j < 256 && lp[k] - lp[k - 1] == lp[k + 1] - lp[k] + 1 &&
-		       li[lp[k - 1] + 1] == k)
-			k++;
-		c->sf[c->nsn++] = j;
-		j = k;
-	}
-	c->sf[c->nsn] = n;
-	c->rp = malloc(((size_t)c->nsn + 1) * sizeof *c->rp);
-	c->bp = malloc(((size_t)c->nsn + 1) * sizeof *c->bp);
-	if (c->rp == NULL || c->bp == NULL)
+	const cholmod_factor *L = c->L;
+	const int n = c->n, nsn = (int)L->nsuper;
+	const int *pi = L->pi;
+	c->perm = L->Perm;
+	c->nsn = nsn;
+	c->sf = L->super;
+	c->sr = L->s;
+	c->rp = malloc(((size_t)nsn + 1) * sizeof *c->rp);
+	c->bp = malloc(((size_t)nsn + 1) * sizeof *c->bp);
+	c->colsn = malloc(((size_t)n + 1) * sizeof *c->colsn);
+	if (c->rp == NULL || c->bp == NULL || c->colsn == NULL)
 		return -1;
 	c->rp[0] = c->bp[0] = 0;
-	for (int s = 0; s < c->nsn; s++) {
-		int f = c->sf[s], w = c->sf[s + 1] - f, m = lp[f + 1] - lp[f];
-		c->rp[s + 1] = c->rp[s] + m;
+	for (int s = 0; s < nsn; s++) {
+		int f = c->sf[s], w = c->sf[s + 1] - f, m = pi[s + 1] - pi[s];
+		c->rp[s + 1] = pi[s + 1];
 		c->bp[s + 1] = c->bp[s] + (long)m * w;
-	}
-	c->sr = malloc(((size_t)c->rp[c->nsn] + 1) * sizeof *c->sr);
-	c->bf = calloc((size_t)c->bp[c->nsn] + 1, sizeof *c->bf);
-	c->bx = calloc((size_t)c->bp[c->nsn] + 1, sizeof *c->bx);
-	c->colsn = malloc(((size_t)n + 1) * sizeof *c->colsn);
-	if (c->sr == NULL || c->bf == NULL || c->bx == NULL || c->colsn == NULL)
-		return -1;
-	for (int s = 0; s < c->nsn; s++)
-		for (int j = c->sf[s]; j < c->sf[s + 1]; j++)
+		for (int j = f; j < f + w; j++)
 			c->colsn[j] = s;
-	for (int s = 0; s < c->nsn; s++) {
-		int f = c->sf[s];
-		memcpy(c->sr + c->rp[s], li + lp[f], (size_t)(lp[f + 1] - lp[f]) * sizeof *li);
+		for (int u = 0; u < m; u++)
+			if ((u < w && c->sr[pi[s] + u] != f + u) ||
+			    (u > 0 && c->sr[pi[s] + u] <= c->sr[pi[s] + u - 1]))
+				return -1;  /* not the layout this code needs */
 	}
-	return 0;
-}
-
-spchol *spchol_analyze(const spsym *a)
-{
-	int n = a->n;
-	spchol *c = calloc(1, sizeof *c);
-	ilist *adj = calloc((size_t)n + 1, sizeof *adj);
-	ilist *col = calloc((size_t)n + 1, sizeof *col);
-	hent *heap = NULL;
-	int *deg = calloc((size_t)n + 1, sizeof *deg);
-	int *sup = malloc(((size_t)n + 1) * sizeof *sup);     /* supervariable of each node */
-	int *wt = calloc((size_t)n + 1, sizeof *wt);          /* its weight (members) */
-	int *moff = calloc((size_t)n + 2, sizeof *moff), *mem = malloc(((size_t)n + 1) * sizeof *mem);
-	int *order = malloc(((size_t)n + 1) * sizeof *order); /* supervariables, elimination order */
-	char *done = calloc((size_t)n + 1, 1);
-	if (c == NULL || adj == NULL || col == NULL || deg == NULL || done == NULL ||
-	    sup == NULL || wt == NULL || moff == NULL || mem == NULL || order == NULL)
-		goto fail;
-	c->n = n;
-	/* Full adjacency (both triangles, no diagonal). */
-	for (int j = 0; j < n; j++)
-		for (int p = a->colp[j]; p < a->colp[j + 1]; p++)
-			if (a->rowi[p] != j) {
-				deg[j]++;
-				deg[a->rowi[p]]++;
-			}
-	long hcap = 0;
-	for (int j = 0; j < n; j++) {
-		adj[j].v = malloc(((size_t)deg[j] + 1) * sizeof *adj[j].v);
-		if (adj[j].v == NULL)
-			goto fail;
-		hcap += deg[j];
-	}
-	for (int j = 0; j < n; j++)
-		for (int p = a->colp[j]; p < a->colp[j + 1]; p++) {
-			int i = a->rowi[p];
-			if (i != j) {
-				adj[j].v[adj[j].len++] = i;
-				adj[i].v[adj[i].len++] = j;
-			}
-		}
-	for (int j = 0; j < n; j++)
-		qsort(adj[j].v, (size_t)adj[j].len, sizeof *adj[j].v, cmp_int);
-	/* Supervariables: nodes with the same closed neighbourhood (the x and
-	 * y of a vertex) are eliminated together, which halves the graph the
-	 * ordering works on. */
-	for (int j = 0; j < n; j++)
-		sup[j] = -1;
-	for (int j = 0; j < n; j++) {
-		if (sup[j] >= 0)
-			continue;
-		sup[j] = j;
-		for (int t = 0; t < adj[j].len; t++) {
-			int i = adj[j].v[t];
-			if (i > j && sup[i] < 0 && adj[i].len == adj[j].len &&
-			    same_but(&adj[j], i, &adj[i], j))
-				sup[i] = j;
-		}
-	}
-	for (int j = 0; j < n; j++)
-		wt[sup[j]]++;
-	for (int j = 0; j < n; j++)
-		moff[j + 1] = moff[j] + wt[j];
-	{
-		int *fill = calloc((size_t)n + 1, sizeof *fill);
-		if (fill == NULL)
-			goto fail;
-		for (int j = 0; j < n; j++)
-			mem[moff[sup[j]] + fill[sup[j]]++] = j;
-		free(fill);
-	}
-	/* The quotient graph: representatives only, adjacency mapped to
-	 * representatives. */
-	for (int j = 0; j < n; j++) {
-		if (sup[j] != j) {
-			free(adj[j].v);
-			adj[j] = (ilist){ 0 };
-			continue;
-		}
-		int len = 0;
-		for (int t = 0; t < adj[j].len; t++) {
-			int r = sup[adj[j].v[t]];
-			if (r != j)
-				adj[j].v[len++] = r;
-		}
-		qsort(adj[j].v, (size_t)len, sizeof *adj[j].v, cmp_int);
-		int u = 0;
-		for (int t = 0; t < len; t++)
-			if (u == 0 || adj[j].v[u - 1] != adj[j].v[t])
-				adj[j].v[u++] = adj[j].v[t];
-		adj[j].len = u;
-	}
-	c->perm = malloc(((size_t)n + 1) * sizeof *c->perm);
-	c->iperm = malloc(((size_t)n + 1) * sizeof *c->iperm);
-	if (c->perm == NULL || c->iperm == NULL)
-		goto fail;
-	hcap = hcap + n + 16;
-	heap = malloc((size_t)hcap * sizeof *heap);
-	if (heap == NULL)
-		goto fail;
-	int nh = 0, nsup = 0, left = n;
-	for (int j = 0; j < n; j++)
-		if (sup[j] == j) {
-			int d = 0;
-			for (int t = 0; t < adj[j].len; t++)
-				d += wt[adj[j].v[t]];
-			deg[j] = d;
-			hpush(heap, &nh, (hent){ d, j });
-			nsup++;
-		}
-	int k = 0;
-	while (k < nsup) {
-		hent e;
-		do {
-			e = hpop(heap, &nh);
-		} while (done[e.node] || e.deg != deg[e.node]);
-		int p = e.node;
-		if (deg[p] == left - wt[p]) {
-			/* What is left is (nearly) one clique: its order no longer
-			 * matters for the fill, and merging cliques is the costly
-			 * part.  Treating it as a full clique can only add
-			 * explicit zeros to L. */
-			int first = k;
-			for (int j = 0; j < n; j++)
-				if (sup[j] == j && !done[j])
-					order[k++] = j;
-			for (int t = first; t < k; t++) {
-				int q = order[t];
-				done[q] = 1;
-				free(adj[q].v);
-				adj[q] = (ilist){ 0 };
-				col[q].v = malloc(((size_t)(k - t) + 1) * sizeof *col[q].v);
-				if (col[q].v == NULL)
-					goto fail;
-				for (int u = t + 1; u < k; u++)
-					col[q].v[col[q].len++] = order[u];
-			}
-			break;
-		}
-		done[p] = 1;
-		order[k++] = p;
-		left -= wt[p];
-		ilist nb = adj[p];
-		adj[p] = (ilist){ 0 };
-		col[p] = nb;
-		if (nh + nb.len + 1 > hcap) {
-			hcap = 2 * (hcap + nb.len + 1);
-			hent *nhp = realloc(heap, (size_t)hcap * sizeof *heap);
-			if (nhp == NULL)
-				goto fail;
-			heap = nhp;
-		}
-		for (int t = 0; t < nb.len; t++) {
-			int q = nb.v[t];
-			ilist m;
-			if (merge(&adj[q], nb.v, nb.len, p, q, &m) != 0)
-				goto fail;
-			free(adj[q].v);
-			adj[q] = m;
-			int d = 0;
-			for (int u = 0; u < m.len; u++)
-				d += wt[m.v[u]];
-			deg[q] = d;
-			hpush(heap, &nh, (hent){ d, q });
-		}
-	}
-	/* Expand: the members of each supervariable in turn. */
-	int kk = 0;
-	for (int t = 0; t < nsup; t++)
-		for (int u = moff[order[t]]; u < moff[order[t] + 1]; u++) {
-			c->perm[kk] = mem[u];
-			c->iperm[mem[u]] = kk;
-			kk++;
-		}
-	/* L in the new order: the column of a member holds the later members
-	 * of its supervariable and all members of the clique it left. */
-	c->lp = malloc(((size_t)n + 1) * sizeof *c->lp);
-	if (c->lp == NULL)
-		goto fail;
-	c->lp[0] = 0;
-	for (int t = 0; t < n; t++) {
-		int s0 = sup[c->perm[t]];
-		int later = c->iperm[mem[moff[s0]]] + wt[s0] - 1 - t;
-		int cl = 0;
-		for (int u = 0; u < col[s0].len; u++)
-			cl += wt[col[s0].v[u]];
-		c->lp[t + 1] = c->lp[t] + 1 + later + cl;
-	}
-	c->nnz = c->lp[n];
-	c->li = malloc(((size_t)c->nnz + 1) * sizeof *c->li);
-	c->w = calloc((size_t)n + 1, sizeof *c->w);
+	c->bx = calloc((size_t)c->bp[nsn] + 1, sizeof *c->bx);
+	c->bf = calloc((size_t)c->bp[nsn] + 1, sizeof *c->bf);
+	c->amap = malloc(((size_t)a->nnz + 1) * sizeof *c->amap);
 	c->yf = malloc(((size_t)n + 1) * sizeof *c->yf);
 	c->acc = malloc(((size_t)n + 1) * sizeof *c->acc);
 	c->head = malloc(((size_t)n + 1) * sizeof *c->head);
 	c->next = malloc(((size_t)n + 1) * sizeof *c->next);
 	c->pos = malloc(((size_t)n + 1) * sizeof *c->pos);
 	c->rel = malloc(((size_t)n + 1) * sizeof *c->rel);
-	c->annz = a->nnz;
-	c->amap = malloc(((size_t)a->nnz + 1) * sizeof *c->amap);
-	if (!c->li || !c->w || !c->yf || !c->acc || !c->head || !c->next || !c->pos || !c->rel || !c->amap)
-		goto fail;
-	/* Members of a supervariable are consecutive in the new order, and
-	 * the clique a supervariable left holds only later ones: each clique
-	 * is sorted once, by first members, and expanded into ranges.  deg
-	 * now holds the weight of the supervariable starting at each new
-	 * index. */
-	for (int j = 0; j < n; j++)
-		if (sup[j] == j)
-			deg[c->iperm[mem[moff[j]]]] = wt[j];
-	for (int j = 0; j < n; j++) {
-		if (sup[j] != j)
-			continue;
-		for (int u = 0; u < col[j].len; u++)
-			col[j].v[u] = c->iperm[mem[moff[col[j].v[u]]]];
-		qsort(col[j].v, (size_t)col[j].len, sizeof *col[j].v, cmp_int);
+	int *iperm = malloc(((size_t)n + 1) * sizeof *iperm);
+	if (!c->bx || !c->bf || !c->amap || !c->yf || !c->acc || !c->head || !c->next ||
+	    !c->pos || !c->rel || !iperm) {
+		free(iperm);
+		return -1;
 	}
-	for (int t = 0; t < n; t++) {
-		int s0 = sup[c->perm[t]];
-		int *dst = c->li + c->lp[t], len = 0;
-		int end = c->iperm[mem[moff[s0]]] + wt[s0];
-		for (int u = t; u < end; u++)
-			dst[len++] = u;
-		for (int u = 0; u < col[s0].len; u++) {
-			int f = col[s0].v[u];
-			for (int v = 0; v < deg[f]; v++)
-				dst[len++] = f + v;
-		}
-	}
-	if (supernodes(c) != 0)
-		goto fail;
+	for (int k = 0; k < n; k++)
+		iperm[c->perm[k]] = k;
 	for (int j = 0; j < n; j++)
 		for (int p = a->colp[j]; p < a->colp[j + 1]; p++) {
-			int r = c->iperm[a->rowi[p]], s = c->iperm[j];
+			int r = iperm[a->rowi[p]], s = iperm[j];
 			if (r < s) {
 				int t = r;
 				r = s;
 				s = t;
 			}
-			int lo = c->lp[s], hi = c->lp[s + 1] - 1, at = -1;
+			int S = c->colsn[s], f = c->sf[S], w = c->sf[S + 1] - f, t = s - f;
+			const int *R = c->sr + c->rp[S];
+			int lo = 0, hi = (int)(c->rp[S + 1] - c->rp[S]) - 1, at = -1;
 			while (lo <= hi) {
 				int mid = (lo + hi) / 2;
-				if (c->li[mid] == r) {
+				if (R[mid] == r) {
 					at = mid;
 					break;
 				}
-				if (c->li[mid] < r)
+				if (R[mid] < r)
 					lo = mid + 1;
 				else
 					hi = mid - 1;
 			}
-			if (at < 0)  /* cannot happen: the fill contains A */
-				goto fail;
-			/* column s is column t of supernode S; the entry is row
-			 * t + (at - lp[s]) of its block */
-			int S = c->colsn[s], f = c->sf[S], w = c->sf[S + 1] - f, t = s - f;
-			c->amap[p] = c->bp[S] + (long)(t + at - c->lp[s]) * w + t;
+			if (at < 0) {  /* cannot happen: the fill contains A */
+				free(iperm);
+				return -1;
+			}
+			c->amap[p] = c->bp[S] + (long)at * w + t;
 		}
-	for (int j = 0; j < n; j++) {
-		free(adj[j].v);
-		free(col[j].v);
+	free(iperm);
+	return 0;
+}
+
+spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind)
+{
+	spchol *c = calloc(1, sizeof *c);
+	if (c == NULL)
+		return NULL;
+	if (!cholmod_start(&c->cm)) {
+		free(c);
+		return NULL;
 	}
-	free(adj);
-	free(col);
-	free(heap);
-	free(deg);
-	free(done);
-	free(sup);
-	free(wt);
-	free(moff);
-	free(mem);
-	free(order);
+	/* The library never prints: CHOLMOD reports through cm.status only. */
+	c->cm.print = 0;
+	c->cm.error_handler = NULL;
+	/* A failed shift is retried with a larger one: stop at the first
+	 * non-positive pivot instead of finishing a useless factor. */
+	c->cm.quick_return_if_not_posdef = 1;
+	/* Supernodal symbolic structure, whichever numeric path runs. */
+	c->cm.supernodal = CHOLMOD_SUPERNODAL;
+	c->n = a->n;
+	c->annz = a->nnz;
+	c->A = cholmod_allocate_sparse((size_t)a->n, (size_t)a->n, (size_t)a->nnz + 1, 1, 1, -1,
+				       CHOLMOD_REAL, &c->cm);
+	if (c->A == NULL)
+		goto fail;
+	memcpy(c->A->p, a->colp, ((size_t)a->n + 1) * sizeof *a->colp);
+	memcpy(c->A->i, a->rowi, (size_t)a->nnz * sizeof *a->rowi);
+	memset(c->A->x, 0, ((size_t)a->nnz + 1) * sizeof(double));
+	c->L = cholmod_analyze(c->A, &c->cm);
+	if (c->L == NULL || c->cm.status < CHOLMOD_OK || !c->L->is_super)
+		goto fail;
+	c->big = kind == SPCHOL_CHOLMOD || (kind == SPCHOL_AUTO && c->cm.lnz > SPCHOL_BIG_LNZ);
+	if (c->big) {
+		c->B = cholmod_allocate_dense((size_t)a->n, 1, (size_t)a->n, CHOLMOD_REAL, &c->cm);
+		if (c->B == NULL)
+			goto fail;
+	} else if (own_setup(c, a) != 0)
+		goto fail;
 	return c;
 fail:
-	if (adj)
-		for (int j = 0; j < n; j++)
-			free(adj[j].v);
-	if (col)
-		for (int j = 0; j < n; j++)
-			free(col[j].v);
-	free(adj);
-	free(col);
-	free(heap);
-	free(deg);
-	free(done);
-	free(sup);
-	free(wt);
-	free(moff);
-	free(mem);
-	free(order);
 	spchol_free(c);
 	return NULL;
 }
 
-void spchol_free(spchol *c)
+spchol *spchol_analyze(const spsym *a)
 {
-	if (c == NULL)
-		return;
-	free(c->perm);
-	free(c->iperm);
-	free(c->lp);
-	free(c->li);
-	free(c->bx);
-	free(c->yf);
-	free(c->acc);
-	free(c->colsn);
-	free(c->rel);
-	free(c->sf);
-	free(c->rp);
-	free(c->sr);
-	free(c->bp);
-	free(c->bf);
-	free(c->amap);
-	free(c->w);
-	free(c->head);
-	free(c->next);
-	free(c->pos);
-	free(c);
+	return spchol_analyze_kind(a, SPCHOL_AUTO);
+}
+
+double spchol_bytes(const spchol *c)
+{
+	/* the supernodal blocks whole, explicit zeros too */
+	return c->big ? 8 * (double)c->L->xsize : 12 * (double)c->bp[c->nsn];
 }
 
 long spchol_nnz(const spchol *c)
 {
-	return c->nnz;
+	return (long)c->cm.lnz;
 }
 
 /* Four partial sums: a single one is a chain of dependent additions. */
@@ -645,14 +368,11 @@ static inline double dotd(const double *a, const double *b, int n)
  * list headed at the supernode of their next row (George and Liu), so no
  * row structure is stored.  An update is dense: dot products of K's rows,
  * scattered into J's block through the row map rel. */
-int spchol_factor(spchol *c, const spsym *a, double shift)
+static int factor_own(spchol *c, const spsym *a, double shift)
 {
-	const int n = c->n, nsn = c->nsn;
+	const int nsn = c->nsn;
 	int *head = c->head, *next = c->next, *pos = c->pos, *rel = c->rel;
 	double *bx = c->bx;
-	c->ok = 0;
-	if (a->n != n || a->nnz != c->annz || !isfinite(shift))
-		return MESH_EDOM;
 	memset(bx, 0, (size_t)c->bp[nsn] * sizeof *bx);
 	for (int p = 0; p < a->nnz; p++)
 		bx[c->amap[p]] += a->val[p];
@@ -724,8 +444,52 @@ int spchol_factor(spchol *c, const spsym *a, double shift)
 		for (int t = 0; t < w; t++)
 			c->bf[b0 + (long)t * w + t] = (float)(1 / bx[b0 + (long)t * w + t]);
 	}
-	c->ok = 1;
 	return MESH_OK;
+}
+
+/* The smallest squared diagonal entry of CHOLMOD's supernodal L: the
+ * pivots, which CHOLMOD only checks for being positive. */
+static double min_pivot(const cholmod_factor *L)
+{
+	const double *x = L->x;
+	const int *super = L->super, *pi = L->pi, *px = L->px;
+	double dmin = INFINITY;
+	for (size_t s = 0; s < L->nsuper; s++) {
+		int nscol = super[s + 1] - super[s], nsrow = pi[s + 1] - pi[s];
+		for (int j = 0; j < nscol; j++) {
+			double d = x[px[s] + j + (size_t)j * nsrow];
+			dmin = fmin(dmin, d * d);
+		}
+	}
+	return dmin;
+}
+
+static int factor_cholmod(spchol *c, const spsym *a, double shift)
+{
+	memcpy(c->A->x, a->val, (size_t)a->nnz * sizeof *a->val);
+	double dmax = 0;
+	for (int j = 0; j < a->n; j++)
+		dmax = fmax(dmax, fabs(a->val[a->colp[j]] + shift));
+	double beta[2] = { shift, 0 };
+	if (!cholmod_factorize_p(c->A, beta, NULL, 0, c->L, &c->cm))
+		return c->cm.status == CHOLMOD_OUT_OF_MEMORY ? MESH_ENOMEM : MESH_EDOM;
+	if (c->cm.status != CHOLMOD_OK || c->L->minor < c->L->n || !c->L->is_super)
+		return MESH_EDOM;
+	/* As in factor_own: a pivot below 1e-12 of the largest diagonal
+	 * entry is no positive definite factor. */
+	if (!(min_pivot(c->L) > 1e-12 * dmax))
+		return MESH_EDOM;
+	return MESH_OK;
+}
+
+int spchol_factor(spchol *c, const spsym *a, double shift)
+{
+	c->ok = 0;
+	if (a->n != c->n || a->nnz != c->annz || !isfinite(shift))
+		return MESH_EDOM;
+	int st = c->big ? factor_cholmod(c, a, shift) : factor_own(c, a, shift);
+	c->ok = st == MESH_OK;
+	return st;
 }
 
 int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift)
@@ -733,11 +497,15 @@ int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift)
 	if (!(smin > 0) || !isfinite(smin))
 		return MESH_EDOM;
 	double s = *shift > smin && isfinite(*shift) ? *shift : smin;
-	for (int t = 0; t < 30; t++, s *= 10)
-		if (spchol_factor(c, a, s) == MESH_OK) {
+	for (int t = 0; t < 30; t++, s *= 10) {
+		int st = spchol_factor(c, a, s);
+		if (st == MESH_OK) {
 			*shift = s;
 			return MESH_OK;
 		}
+		if (st == MESH_ENOMEM)
+			return st;
+	}
 	return MESH_EDOM;
 }
 
@@ -749,8 +517,9 @@ int spchol_precond(spchol *c, const spsym *a, double *shift)
 	if (!(dmax > 0) || !isfinite(dmax))
 		return MESH_EDOM;
 	double s = isfinite(*shift) ? *shift / 100 : 0;
-	if (spchol_factor_shifted(c, a, 1e-9 * dmax, &s) != MESH_OK)
-		return MESH_EDOM;
+	int st = spchol_factor_shifted(c, a, 1e-9 * dmax, &s);
+	if (st != MESH_OK)
+		return st;
 	*shift = s;
 	return MESH_OK;
 }
@@ -795,7 +564,7 @@ static inline void axpyf(float *y, const float *a, float v, int n)
 		y[t] -= a[t] * v;
 }
 
-void spchol_solve(spchol *c, const double *b, double *x)
+static void solve_own(spchol *c, const double *b, double *x)
 {
 	const int n = c->n;
 	float *y = c->yf;
@@ -833,4 +602,26 @@ void spchol_solve(spchol *c, const double *b, double *x)
 	}
 	for (int k = 0; k < n; k++)
 		x[c->perm[k]] = y[k];
+}
+
+int spchol_solve_status(spchol *c, const double *b, double *x)
+{
+	if (!c->ok)
+		return MESH_EDOM;
+	if (!c->big) {
+		solve_own(c, b, x);
+		return MESH_OK;
+	}
+	memcpy(c->B->x, b, (size_t)c->n * sizeof *b);
+	if (!cholmod_solve2(CHOLMOD_A, c->L, c->B, NULL, &c->X, NULL, &c->Y, &c->E, &c->cm))
+		return c->cm.status == CHOLMOD_OUT_OF_MEMORY ? MESH_ENOMEM : MESH_EDOM;
+	memcpy(x, c->X->x, (size_t)c->n * sizeof *x);
+	return MESH_OK;
+}
+
+void spchol_solve(spchol *c, const double *b, double *x)
+{
+	if (spchol_solve_status(c, b, x) != MESH_OK)
+		for (int k = 0; k < c->n; k++)
+			x[k] = NAN;
 }

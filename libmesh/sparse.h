@@ -3,10 +3,13 @@
  * The preconditioner of Newton-CG (minimize.c) is a complete sparse
  * Cholesky factorization of the Hessian plus a small shift: the Hessian of
  * a vertex-model tissue couples only the vertices of one cell, so it has
- * ~26 nonzeros per row, and with a fill-reducing (minimum degree) ordering
- * its factor has ~105k nonzeros for a 324-cell tissue (1296 variables).
- * One factorization (~2 ms) serves many solves (~0.07 ms each; bench/
- * bench/RESULTS.md).  Generic: nothing here knows about meshes.
+ * ~26 nonzeros per row, and with a fill-reducing ordering its factor has
+ * ~100k nonzeros for a 324-cell tissue (1296 variables).  The
+ * factorization is CHOLMOD's (SuiteSparse; AMD or METIS ordering,
+ * supernodal), chosen over a hand-written one by measurement
+ * (bench/RESULTS.md, issue 16).  One factorization serves many solves.
+ * Each spchol owns its CHOLMOD workspace, so factorizations in different
+ * threads share no state.  Generic: nothing here knows about meshes.
  */
 #ifndef TIS_SPARSE_H
 #define TIS_SPARSE_H
@@ -32,7 +35,7 @@ int spsym_find(const spsym *a, int i, int j);
 /* y = A x (the full symmetric matrix). */
 void spsym_mulvec(const spsym *a, const double *x, double *y);
 
-/* The Cholesky factor L L^T = P (A + shift I) P^T, P a minimum degree
+/* The Cholesky factor L L^T = P (A + shift I) P^T, P a fill-reducing
  * permutation computed once per pattern by spchol_analyze; the numeric
  * factorization is repeated whenever the values change. */
 typedef struct spchol spchol;
@@ -40,33 +43,48 @@ typedef struct spchol spchol;
 /* Ordering and symbolic factorization for the pattern of a.  NULL if out
  * of memory. */
 spchol *spchol_analyze(const spsym *a);
+/* The numeric factorization and solves behind a spchol: CHOLMOD's
+ * (supernodal LAPACK/BLAS, double-precision solves) or the hand-written
+ * supernodal kernel (single-precision solves, faster on small factors);
+ * spchol_analyze takes SPCHOL_AUTO, which picks by the size of L. */
+typedef enum { SPCHOL_AUTO, SPCHOL_OWN, SPCHOL_CHOLMOD } spchol_kind;
+spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind);
 void spchol_free(spchol *c);
-/* Nonzeros of L (a measure of its cost: a solve is ~4 flops per entry). */
+/* Bytes the numeric factorization holds (8 per entry of L on CHOLMOD's
+ * path, 12 on the hand-written one), known from the analysis alone. */
+double spchol_bytes(const spchol *c);
+/* Nonzeros of L as CHOLMOD's analysis counts them (a measure of its cost:
+ * a solve is ~4 flops per entry). */
 long spchol_nnz(const spchol *c);
 
 /* Factor A + shift I (a must have the pattern c was analyzed for).  MESH_OK,
- * or MESH_EDOM if it is not numerically positive definite (a pivot below
- * 1e-12 times the largest diagonal entry); then c holds no usable factor. */
+ * MESH_EDOM if it is not numerically positive definite (a pivot below
+ * 1e-12 times the largest diagonal entry), MESH_ENOMEM if memory ran out;
+ * on failure c holds no usable factor. */
 int spchol_factor(spchol *c, const spsym *a, double shift);
 
 /* A positive definite factor near A: A + s I with the first s of the
  * sequence s0, 10 s0, 100 s0, ... for which spchol_factor succeeds, s0 =
  * max(smin, *shift) (smin > 0; *shift a warm start, say the last shift
- * used divided by 100), at most 30 tries.  *shift gets s.  MESH_OK or
- * MESH_EDOM. */
+ * used divided by 100), at most 30 tries.  *shift gets s.  MESH_OK,
+ * MESH_EDOM, or MESH_ENOMEM (no further tries). */
 int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift);
 
 /* The preconditioner of Newton-CG: A + s I with the smallest s from the
  * sequence above, smin = 1e-9 of A's largest diagonal entry and the warm
  * start *shift / 100 (0 for none); *shift gets s.  At a stable minimum of
  * W that lifts only the two translations (zero modes), far from it it is a
- * Levenberg-Marquardt step.  MESH_OK or MESH_EDOM. */
+ * Levenberg-Marquardt step.  MESH_OK, MESH_EDOM or MESH_ENOMEM. */
 int spchol_precond(spchol *c, const spsym *a, double *shift);
 
-/* x = (L L^T)^{-1} b in the original ordering (x may alias b), with L
- * rounded to single precision (a preconditioner needs no more, and the
- * solve is bound by memory traffic): relative error ~1e-7 times the
- * condition number.  No allocation. */
+/* x = (L L^T)^{-1} b in the original ordering (x may alias b): relative
+ * error ~1e-16 times the condition number with CHOLMOD's factor, ~1e-7
+ * with the hand-written one (L rounded to single precision: a
+ * preconditioner needs no more, and the solve is bound by memory
+ * traffic).  CHOLMOD's workspace is allocated by the first solve and
+ * kept.  MESH_OK, MESH_EDOM if c holds no usable factor, MESH_ENOMEM. */
+int spchol_solve_status(spchol *c, const double *b, double *x);
+/* The same where failure cannot be reported: x all NaN then. */
 void spchol_solve(spchol *c, const double *b, double *x);
 
 #endif

@@ -2,6 +2,7 @@
 #include "topology.h"
 
 #include "geom.h"
+#include "order.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -272,66 +273,7 @@ int mesh_t1(mesh *m, int j, double lnew, mesh_error *err)
 	return mesh_t1_touch(m, j, lnew, NULL, err);
 }
 
-struct cell_key {
-	double key;
-	int k;
-};
-
-static int cmp_key(const void *pa, const void *pb)
-{
-	const struct cell_key *a = pa, *b = pb;
-	if (a->key != b->key)
-		return a->key < b->key ? -1 : 1;
-	return (a->k > b->k) - (a->k < b->k);
-}
-
 int mesh_sort_cells(mesh *m)
 {
-	const int nc = m->nc;
-	if (nc < 2)
-		return MESH_OK;
-	size_t nk = (size_t)m->coff[nc];
-	struct cell_key *ck = malloc((size_t)nc * sizeof *ck);
-	int *newk = malloc((size_t)nc * sizeof *newk);
-	int *coff = malloc(((size_t)nc + 1) * sizeof *coff);
-	int *cv = malloc(nk * sizeof *cv), *cj = malloc(nk * sizeof *cj);
-	double *cimg = malloc(2 * nk * sizeof *cimg);
-	int st = MESH_ENOMEM;
-	if (!ck || !newk || !coff || !cv || !cj || !cimg)
-		goto out;
-	double band = sqrt(m->lx * m->ly / nc);
-	for (int k = 0; k < nc; k++) {
-		int v = m->cv[m->coff[k]];
-		double x = m->r[2 * v] - m->lx * floor(m->r[2 * v] / m->lx);
-		double y = m->r[2 * v + 1] - m->ly * floor(m->r[2 * v + 1] / m->ly);
-		ck[k] = (struct cell_key){ floor(y / band) * 2 * m->lx + x, k };
-	}
-	qsort(ck, (size_t)nc, sizeof *ck, cmp_key);
-	int w = 0;
-	coff[0] = 0;
-	for (int i = 0; i < nc; i++) {
-		int k = ck[i].k, s = m->coff[k];
-		size_t n = (size_t)(m->coff[k + 1] - s);
-		newk[k] = i;
-		memcpy(cv + w, m->cv + s, n * sizeof *cv);
-		memcpy(cj + w, m->cj + s, n * sizeof *cj);
-		memcpy(cimg + 2 * (size_t)w, m->cimg + 2 * (size_t)s, 2 * n * sizeof *cimg);
-		w += (int)n;
-		coff[i + 1] = w;
-	}
-	for (int j = 0; j < 2 * m->nj; j++)
-		m->jc[j] = newk[m->jc[j]];
-	memcpy(m->coff, coff, ((size_t)nc + 1) * sizeof *coff);
-	memcpy(m->cv, cv, nk * sizeof *cv);
-	memcpy(m->cj, cj, nk * sizeof *cj);
-	memcpy(m->cimg, cimg, 2 * nk * sizeof *cimg);
-	st = MESH_OK;
-out:
-	free(ck);
-	free(newk);
-	free(coff);
-	free(cv);
-	free(cj);
-	free(cimg);
-	return st;
+	return mesh_order_spatial(m, MESH_ORDER_CELLS);
 }

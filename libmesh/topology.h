@@ -39,9 +39,9 @@ int mesh_t1(mesh *m, int j, double lnew, mesh_error *err);
  * updates five instead of all. */
 int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err);
 
-/* Renumber the cells in bands across the box (by the position of each
- * cell's first vertex: bands about one cell high, left to right within a
- * band), so that neighbouring cells have nearby numbers.  A T1 shifts the
+/* Renumber the cells along a Hilbert curve through the box
+ * (mesh_order_spatial with MESH_ORDER_CELLS, order.h), so that
+ * neighbouring cells have nearby numbers.  A T1 shifts the
  * cell arrays between the smallest and largest number of its four cells;
  * after thousands of T1s under noise, neighbours have unrelated numbers
  * and that is most of the cell table (bench/RESULTS.md).  Vertices,

@@ -36,7 +36,7 @@ fails_with 1 "missing input file" tis-active --index 0 "$T/none.mesh"
 tis-active --index 0 $A --time 20 --trace "$T/tr.tsv" "$H" >"$T/a.mesh" 2>"$T/a.err"
 ok "one junction writes a mesh that reads back" sh -c "tis-active --index 0 --time 0 '$T/a.mesh' >/dev/null"
 ok "its tension is in the junctions section" grep -q '^junctions 1$' "$T/a.mesh"
-ok "the history line says how and when it ended" grep -q '# end time at t 20; bdf' "$T/a.mesh"
+ok "the history line says how and when it ended" grep -q '# end time; t 20; bdf' "$T/a.mesh"
 ok "trace header: provenance, then t l dg" sh -c "grep -v '^#' '$T/tr.tsv' | head -1 | grep -q '^t	l	dg	'"
 ok "trace: first row t 0, last row t 20, one per unit" sh -c "awk '!/^#/ && NR > 0 && \$1 != \"t\" { n++; if (n == 1) f = \$1; e = \$1 } END { exit !(f == 0 && e == 20 && n == 21) }' '$T/tr.tsv'"
 ok "nothing on stderr when it is not a terminal" test ! -s "$T/a.err"
@@ -56,7 +56,7 @@ ok "another seed, another state" sh -c "! cmp -s '$T/n1.mesh' '$T/n3.mesh'"
 # collapse with T1s off: stops cleanly at l = 0.001, t_c after it
 tis-active --index 0 --rate 0.1 --gamma0 1 --trace "$T/c.tsv" "$H" >"$T/c.mesh"; st=$?
 ok "a collapse ends the run with exit 0" test "$st" -eq 0
-ok "the history says collapse and t_c" grep -Eq '# end collapse at t [0-9.]+, t_c [0-9.]+' "$T/c.mesh"
+ok "the history says collapse and t_c" grep -Eq '# end collapse; t [0-9.]+, t_c [0-9.]+' "$T/c.mesh"
 ok "the last trace row is the collapse (l = 0.001)" sh -c "tail -1 '$T/c.tsv' | awk '{ exit !(\$2 > 0.00099 && \$2 < 0.00101) }'"
 
 # a mesh with tensions starts from them exactly: --time 0 leaves it as it is
@@ -82,13 +82,17 @@ ok "network: T1s happen and each is an event row" sh -c "n=\$(grep -v '^#' '$T/e
 # interrupt OUT ARGS...: run, SIGTERM after a few trace rows, $st the exit
 interrupt() {
 	out=$1; shift
-	rm -f "$T/int.tsv"
-	tis-active "$@" --trace "$T/int.tsv" >"$out" 2>/dev/null & pid=$!
-	i=0
-	while [ "$(grep -c . "$T/int.tsv" 2>/dev/null || echo 0)" -lt 6 ] && [ $i -lt 500 ]; do
-		sleep 0.02; i=$((i + 1))
+	for try in 1 2 3; do
+		rm -f "$T/int.tsv"
+		tis-active "$@" --trace "$T/int.tsv" >"$out" 2>/dev/null & pid=$!
+		i=0
+		while [ "$(cat "$T/int.tsv" 2>/dev/null | grep -c .)" -lt 6 ] && [ $i -lt 500 ]; do
+			sleep 0.02; i=$((i + 1))
+		done
+		kill -TERM $pid 2>/dev/null; wait $pid; st=$?
+		# a run that finished before the signal came is tried again
+		[ $st -eq 0 ] || break
 	done
-	kill -TERM $pid 2>/dev/null; wait $pid; st=$?
 }
 same_state() { sed -n '/^vertices/,$p' "$1" >"$T/f1"; sed -n '/^vertices/,$p' "$2" >"$T/f2"; cmp -s "$T/f1" "$T/f2"; }
 R="--index 0 $A --scheme euler --sigma 0.02 --time 300"
@@ -106,7 +110,7 @@ tis-active $R "$T/npart.mesh" >"$T/ncont.mesh"
 ok "network, noise and T1s: interrupted (exit 3) and continued, the uninterrupted state to the bit" \
 	sh -c "[ $st -eq 3 ] && grep -q '^state active_t ' '$T/npart.mesh' && ! grep -q ' 0 T1s' '$T/nfull.mesh'" && same_state "$T/nfull.mesh" "$T/ncont.mesh"
 # bdf restarts its integrator: the continued run agrees to the tolerance
-R="--index 0 --rate 0.19 --gamma0 0.11 --time 400 --rtol 1e-9"
+R="--index 0 --rate 0.19 --gamma0 0.11 --time 3000 --rtol 1e-9"
 tis-active $R "$H" >"$T/bfull.mesh"
 interrupt "$T/bpart.mesh" $R "$H"
 tis-active $R "$T/bpart.mesh" >"$T/bcont.mesh"

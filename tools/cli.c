@@ -169,6 +169,23 @@ void cli_write_mesh(const mesh *m)
 		cli_die(EXIT_INPUT, "write error: %s", strerror(errno));
 }
 
+void cli_write_frame(mesh *m, double t)
+{
+	const char *had = mesh_state_get(m, "t");
+	char ts[32], old[64] = "";
+	if (had)
+		snprintf(old, sizeof old, "%s", had);
+	snprintf(ts, sizeof ts, "%.17g", t);
+	if (mesh_state_set(m, "t", ts) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
+	printf("# %s frame t %.10g\n", cli_name, t);
+	cli_write_mesh(m);
+	if (!had)
+		mesh_state_del(m, "t");
+	else if (mesh_state_set(m, "t", old) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
+}
+
 void cli_table_header(FILE *f, const mesh *m, const char *cols)
 {
 	if (m)
@@ -267,16 +284,6 @@ double *cli_double_list(const char *opt, const char *arg, int *n)
 	}
 	free(buf);
 	return v;
-}
-
-int cli_junction(const mesh *m, long a, long b)
-{
-	if (a >= m->nv || b >= m->nv)
-		cli_die(EXIT_INPUT, "--junction %ld %ld: the mesh has %d vertices", a, b, m->nv);
-	int j = mesh_junction_find(m, (int)a, (int)b);
-	if (j < 0)
-		cli_die(EXIT_INPUT, "--junction %ld %ld: no junction joins these vertices", a, b);
-	return j;
 }
 
 void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b)

@@ -48,10 +48,6 @@ double *cli_double_list(const char *opt, const char *arg, int *n);
  * loop: A is optarg, B the next argument (optind moves past it). */
 void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b);
 
-/* The junction joining vertices a and b of m; exit 1 naming --junction if
- * there is none. */
-int cli_junction(const mesh *m, long a, long b);
-
 /* Open a mesh input: NULL or "-" is stdin.  Exit 1 if it cannot be opened. */
 FILE *cli_open(const char *path);
 /* The name to use for an input in messages. */
@@ -64,15 +60,16 @@ int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m);
 mesh *cli_read_one(const char *path);
 /* Write a mesh to stdout; exit 1 on a write error. */
 void cli_write_mesh(const mesh *m);
+/* Write a frame of a run to stdout: a "# NAME frame t T" comment, then m
+ * with a "state t T" line (the frame's time, which tis-info and tis-vtk
+ * read); m keeps the state lines it had.  Exit 1 on a write error or out
+ * of memory. */
+void cli_write_frame(mesh *m, double t);
 /* Add the command line given to cli_init as a history line; exit 1 if out
  * of memory. */
 void cli_history(mesh *m);
 /* Append " # note" to the last history line (what the run did not finish,
  * how it ended); exit 1 if out of memory. */
-void cli_history_note(mesh *m, const char *note);
-
-/* Append a shell comment (" # note") to the last history line, the one
- * cli_history added: how the run ended.  Exit 1 if out of memory. */
 void cli_history_note(mesh *m, const char *note);
 
 /* Begin a TSV table on f: "# " lines of provenance (the history of m, if

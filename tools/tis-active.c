@@ -77,6 +77,13 @@ static void set_sel(struct opts *o, int sel)
 	o->sel = sel;
 }
 
+/* The name has exactly one '%', in a "%d". */
+static int one_d(const char *name)
+{
+	const char *p = strchr(name, '%');
+	return p && p[1] == 'd' && strchr(p + 1, '%') == NULL;
+}
+
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
@@ -178,8 +185,10 @@ static struct opts parse(int argc, char **argv)
 	int multi = o.sel == SEL_RANDOM || o.sel == SEL_LIST;
 	if (multi && o.every > 0)
 		cli_usage_error("--every writes frames of one run: not with --random or --list");
-	if (multi && o.trace && !strstr(o.trace, "%d"))
-		cli_usage_error("--trace with several junctions needs %%d in the file name");
+	if (multi && o.trace && !one_d(o.trace))
+		cli_usage_error("--trace with several junctions needs one %%d in the file name");
+	if (multi && o.events && !one_d(o.events))
+		cli_usage_error("--events with several junctions needs one %%d in the file name");
 	return o;
 }
 
@@ -215,6 +224,7 @@ static void trace_row(struct run *u, double t)
 	else
 		fprintf(u->trace, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g\n", t, w.f6, w.W, w.nt1,
 			w.dg_mean, w.dg_sd, w.lmin);
+	fflush(u->trace);   /* a long run can be watched with tail -f */
 }
 
 static void progress(struct run *u, int force)
@@ -245,8 +255,7 @@ static int observe(act *a, void *data)
 				u->next_trace = ++u->ktrace * u->o->trace_every;
 	}
 	if (u->o->every > 0 && t >= u->next_frame) {
-		printf("# %s frame t %.10g\n", cli_name, t);
-		cli_write_mesh(u->m);
+		cli_write_frame(u->m, t);
 		while (u->next_frame <= t)
 			u->next_frame = ++u->kframe * u->o->every;
 	}
@@ -264,10 +273,16 @@ static void t1_event(void *data, double t, int j, const int lose[2], const int g
 			gain[0], gain[1], lbefore);
 }
 
+/* FILE, or with several junctions (j >= 0) FILE with its one %d replaced
+ * by j (parse checked that it has exactly that). */
 static FILE *open_out(const char *pattern, int j)
 {
 	char name[4096];
-	snprintf(name, sizeof name, pattern, j);
+	const char *p = j >= 0 ? strstr(pattern, "%d") : NULL;
+	if (p)
+		snprintf(name, sizeof name, "%.*s%d%s", (int)(p - pattern), pattern, j, p + 2);
+	else
+		snprintf(name, sizeof name, "%s", pattern);
 	FILE *f = fopen(name, "w");
 	if (f == NULL)
 		cli_die(EXIT_INPUT, "%s: cannot open for writing", name);
@@ -394,7 +409,8 @@ static double start(const struct opts *o, mesh *m, const model *p, const unsigne
 static void history_end(mesh *m, const struct opts *o, const struct result *r)
 {
 	char note[512];
-	int len = snprintf(note, sizeof note, "end %s at t %.10g", act_end_name(r->why), r->t_end);
+	/* items split by ';', one of them "t T" (mesh_time reads it) */
+	int len = snprintf(note, sizeof note, "end %s; t %.10g", act_end_name(r->why), r->t_end);
 	if (r->why == ACT_END_COLLAPSE)
 		len += snprintf(note + len, sizeof note - len, ", t_c %.10g", r->t_c);
 	len += snprintf(note + len, sizeof note - len, "; %s, %ld steps, %ld force evaluations, %ld T1s",
@@ -416,7 +432,8 @@ static int one(const struct opts *o, mesh *m, const model *p, int j)
 	}
 	char rng[OU_STATE_LEN];
 	double t0 = start(o, m, p, active, rng, sizeof rng);
-	struct result r = run(o, m, p, active, j, t0, rng[0] ? rng : NULL, j);
+	/* one run: the file names as given */
+	struct result r = run(o, m, p, active, j, t0, rng[0] ? rng : NULL, -1);
 	history_end(m, o, &r);
 	if (o->every > 0)
 		printf("# %s final t %.10g\n", cli_name, r.t_end);

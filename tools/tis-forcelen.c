@@ -116,7 +116,10 @@ static struct opts parse(int argc, char **argv)
 		switch (c) {
 		case O_JUNCTION:
 			set_sel(&o, SEL_PAIR);
-			cli_vertex_pair("--junction", argc, argv, &o.va, &o.vb);
+			o.va = cli_long("--junction", optarg, 0, 2000000000);
+			if (optind >= argc)
+				cli_usage_error("option '--junction' needs two vertex ids");
+			o.vb = cli_long("--junction", argv[optind++], 0, 2000000000);
 			break;
 		case O_INDEX:
 			set_sel(&o, SEL_INDEX);

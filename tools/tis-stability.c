@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "select.h"
 #include "stability.h"
 
 static const char usage[] =
@@ -167,40 +168,24 @@ static struct opts parse(int argc, char **argv)
 	return o;
 }
 
-static int *read_list(const char *path, const mesh *m, int *count)
-{
-	FILE *f = fopen(path, "r");
-	if (f == NULL)
-		cli_die(EXIT_INPUT, "--list %s: cannot open it", path);
-	int *sel;
-	mesh_error err;
-	int st = mesh_junctions_read(f, m, &sel, count, &err);
-	fclose(f);
-	if (st != MESH_OK && err.line > 0)
-		cli_die(EXIT_INPUT, "--list %s:%ld: %s", path, err.line, err.msg);
-	if (st != MESH_OK)
-		cli_die(EXIT_INPUT, "--list %s: %s", path, err.msg);
-	return sel;
-}
-
 static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 {
-	if (o->sel == SEL_LIST)
-		return read_list(o->list, m, count);
-	int n = o->sel == SEL_ALL ? m->nj : 1;
-	int *sel = malloc(((size_t)n + 1) * sizeof *sel);
-	if (sel == NULL)
-		cli_die(EXIT_INPUT, "out of memory");
-	if (o->sel == SEL_PAIR)
-		sel[0] = cli_junction(m, o->va, o->vb);
-	else if (o->sel == SEL_INDEX) {
-		if (o->index >= m->nj)
-			cli_die(EXIT_INPUT, "--index %ld: the mesh has %d junctions", o->index, m->nj);
-		sel[0] = (int)o->index;
-	} else
-		for (int j = 0; j < n; j++)
+	int *sel = NULL, st = MESH_OK;
+	mesh_error err;
+	switch (o->sel) {
+	case SEL_PAIR: st = junction_select_pair(m, o->va, o->vb, &sel, count, &err); break;
+	case SEL_INDEX: st = junction_select_index(m, o->index, &sel, count, &err); break;
+	case SEL_LIST: st = junction_select_file(m, o->list, &sel, count, &err); break;
+	default:
+		sel = malloc(((size_t)m->nj + 1) * sizeof *sel);
+		if (sel == NULL)
+			cli_die(EXIT_INPUT, "out of memory");
+		for (int j = 0; j < m->nj; j++)
 			sel[j] = j;
-	*count = n;
+		*count = m->nj;
+	}
+	if (st != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err.msg);
 	return sel;
 }
 
@@ -251,14 +236,17 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 			}
 		return 0;
 	}
+	int count;
+	int *sel = select_junctions(o, m, &count);
 	stab_decomp *sd;
 	mesh_error err;
-	if (stab_decomp_alloc(m, p, &o->so, &sd, &err) != MESH_OK)
+	if (stab_decomp_alloc(m, p, &o->so, &sd, &err) != MESH_OK) {
+		free(sel);
 		cli_die(EXIT_INPUT, "%s", err.msg);
-	int n, count, nneg = stab_decomp_nneg(sd);
+	}
+	int n, nneg = stab_decomp_nneg(sd);
 	stab_decomp_eigenvalues(sd, &n);
 	stab_jn *jn = stab_jn_alloc(n);
-	int *sel = select_junctions(o, m, &count);
 	if (jn == NULL)
 		cli_die(EXIT_INPUT, "out of memory");
 	print_header(o, m);

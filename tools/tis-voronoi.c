@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "order.h"
 #include "voronoi.h"
 
 static const char usage[] =
@@ -127,10 +128,17 @@ int main(int argc, char **argv)
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	if (voronoi_lloyd(o.lx, o.ly, n, xy, (int)o.lloyd, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
+	/* Random seeds have no order of their own: along a Hilbert curve,
+	 * cells come out with locality (cell k is still seed k) */
+	if (!o.points && order_points(n, xy, o.lx, o.ly) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
 
 	mesh *m;
 	if (voronoi_tissue(o.lx, o.ly, n, xy, &m, NULL, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
+	/* CGAL's enumeration of vertices has no locality; the kernels want it */
+	if (mesh_order_spatial(m, MESH_ORDER_VERTICES) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
 	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
 	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
 		cli_die(EXIT_INPUT, "out of memory");
