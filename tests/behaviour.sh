@@ -47,7 +47,8 @@ l0=0.6204032394013997
 # the collapse: run to it, again to 1e-3 before it, then on with a trace
 # every 1e-7 down to l = 1e-5 (as studies/fig3b does)
 a="--index 0 --rate 0.5 --gamma0 2"
-tc=$(tis-active $a --time 100 "$T/h37.mesh" | sed -n 's/^history tis-active.*# end collapse at t \([0-9.e+-]*\).*/\1/p')
+echo 0 >"$T/list"
+tc=$(tis-active --list "$T/list" --rate 0.5 --gamma0 2 --time 100 "$T/h37.mesh" | col t_end)
 tis-active $a --time "$(awk -v t="$tc" 'BEGIN { printf "%.12g", t - 1e-3 }')" "$T/h37.mesh" >"$T/mid.mesh"
 tis-active $a --time 1 --collapse 1e-5 --trace-every 1e-7 --trace "$T/a1.tsv" "$T/mid.mesh" >/dev/null
 tis-behaviour --l0 $l0 "$T/a1.tsv" >"$T/b1"
