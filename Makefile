@@ -62,7 +62,7 @@ MAN1 = $(wildcard man/*.1)
 MAN5 = $(wildcard man/*.5)
 MAN7 = $(wildcard man/*.7)
 
-.PHONY: all check bench demo deps install uninstall clean samples figures fuzz fuzz-build
+.PHONY: all check bench demo deps install uninstall clean samples figures fuzz fuzz-build studies
 
 all: $(LIB) $(PROGS)
 
@@ -108,6 +108,8 @@ bench: all
 DEBS = libgsl-dev libnlopt-dev libcgal-dev libsuitesparse-dev libsundials-dev liblapacke-dev libopenblas-dev g++ make perl
 # the table and VTK tests use these when present (CI installs them)
 TESTDEBS = python3-pandas gnuplot-nox python3-vtk9 pkgconf
+# the sweeps (studies/): GNU parallel; the SLURM test: slurm-wlm
+SWEEPDEBS = parallel procps slurm-wlm
 FIGDEBS = gnuplot-nox
 deps:
 	@./.ci/deps $(DEBS)
@@ -123,6 +125,13 @@ samples: all
 figures: all
 	@./.ci/deps --quiet $(FIGDEBS)
 	PATH="$(CURDIR)/bin:$$PATH" ./bench/figures.sh
+	$(MAKE) -C studies figures
+
+# The paper's active-junction studies (studies/README.md): every study on
+# its small grid, minutes each on 2 cores; make -C studies NAME for one.
+studies: all
+	@./.ci/deps --quiet $(FIGDEBS) $(SWEEPDEBS)
+	$(MAKE) -C studies all
 
 # The library installs as libtis.a with its headers in include/tis/ and
 # tis.pc (libMesh, the finite-element library, owns the names libmesh and
