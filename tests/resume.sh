@@ -10,7 +10,13 @@ plan 9
 
 tis-hex 6 6 --p0 3.65 >"$T/h.mesh" || exit 1
 P="--stage 0.8:100 --stage 0.1:60 --relax 20 --seed 5"
+t0=$(date +%s.%N)
 tis-anneal $P "$T/h.mesh" >"$T/full.mesh" 2>"$T/full.err"
+t1=$(date +%s.%N)
+# stop intervals scaled to this machine's speed: a quarter and a third of
+# the uninterrupted run, so the chain stops several times under any load
+dt=$(awk -v a="$t0" -v b="$t1" 'BEGIN { d = (b - a) / 4; printf "%.3f", d < 0.05 ? 0.05 : d }')
+di=$(awk -v a="$t0" -v b="$t1" 'BEGIN { d = (b - a) / 3; printf "%.3f", d < 0.05 ? 0.05 : d }')
 ok "the uninterrupted run finishes" sh -c "grep -q ' T1s' '$T/full.mesh' && ! grep -q '^state' '$T/full.mesh'"
 
 # stop after $2 s with signal $1 (if it has not finished), continue from
@@ -37,12 +43,12 @@ chain() {
 
 same() { grep -v '^history' "$1" >"$T/a"; grep -v '^history' "$2" >"$T/b"; cmp -s "$T/a" "$T/b"; }
 
-chain TERM 0.3
-ok "SIGTERM every 0.3 s: stopped $(cat "$T/stops") times, ended" sh -c "[ \$(cat '$T/stops') -ge 2 ]"
+chain TERM "$dt"
+ok "SIGTERM every $dt s: stopped $(cat "$T/stops") times, ended" sh -c "[ \$(cat '$T/stops') -ge 2 ]"
 ok "... the same final mesh as the uninterrupted run" same "$T/full.mesh" "$T/cur.mesh"
 ok "... and no state lines left" sh -c "! grep -q '^state' '$T/cur.mesh'"
-chain INT 0.45
-ok "SIGINT every 0.45 s: stopped $(cat "$T/stops") times" sh -c "[ \$(cat '$T/stops') -ge 1 ]"
+chain INT "$di"
+ok "SIGINT every $di s: stopped $(cat "$T/stops") times" sh -c "[ \$(cat '$T/stops') -ge 1 ]"
 ok "... the same final mesh" same "$T/full.mesh" "$T/cur.mesh"
 
 # a stopped mesh with other options is refused, not continued wrongly

@@ -402,8 +402,9 @@ int main(int argc, char **argv)
 	 * but not the vertices and junctions, which flow and T1s scatter: the
 	 * output is numbered along the curve for the programs reading it.
 	 * The input is left as it is (tis-hex and tis-voronoi write meshes
-	 * with locality), so a trajectory does not depend on this. */
-	if (mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)
+	 * with locality), so a trajectory does not depend on this.  A stopped
+	 * run keeps its numbering: its state lines are in it. */
+	if (done && mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)
 		cli_die(EXIT_INPUT, "out of memory");
 	cli_write_mesh(m);
 	dyn_free(u.d);
