@@ -2,8 +2,11 @@
 # make demo: the main job on a built-in default.  A disordered 324-cell
 # sample (samples/disordered-1.mesh, made by `make samples`) is relaxed at
 # p0 = 3.70, drawn, and a random dozen of its junctions are swept
-# quasistatically; the fitted a1 and a3 close the run.  Everything it
-# writes goes to demo-out/.
+# quasistatically, and fitted for a1 and a3.  Then the active-junction
+# job: one junction of an ordered sample relaxed at p_hex, its linear
+# stability threshold, and a simulation above it that settles into the
+# paper's limit cycle (1/tau_m 0.19, gamma0 0.11), classified from its
+# trace.  Everything it writes goes to demo-out/.
 set -eu
 cd "$(dirname "$0")/.."
 out=demo-out
@@ -30,4 +33,21 @@ awk -F '\t' '/^#/ || !h++ { next }
 	"$out/fit.tsv"
 awk -F '\t' '/^#/ || !h++ { next } !r++ { printf "\np0 %s, %d junctions: median a1 %.5f (quartiles %.5f, %.5f), median a3 %.4f\n", \
 	$1, $2, $4, $3, $5, $7 }' "$out/summary.tsv"
-printf '\nfiles in %s/: relaxed.mesh relaxed.svg fl.tsv fit.tsv summary.tsv\n' "$out"
+
+ordered=samples/ordered-11.mesh
+phex=3.7224194
+step "tis-relax --p0 $phex $ordered | tis-stability --index 0 --rate 0.19"
+tis-relax --quiet --p0 "$phex" "$ordered" >"$out/phex.mesh"
+tis-stability --index 0 --rate 0.19 "$out/phex.mesh" >"$out/stability.tsv"
+l0=$(awk -F '\t' '/^#/ || !h++ { next } { print $5; exit }' "$out/stability.tsv")
+awk -F '\t' '/^#/ || !h++ { next } { printf "junction %s (%s-%s), l0 %.5f: g0* %.5f (%s, omega %.4f), coarse-grained l0/(2 tau_m) %.5f\n", \
+	$2, $3, $4, $5, $7, $9, $8, $10 }' "$out/stability.tsv"
+
+step "tis-active --index 0 --rate 0.19 --gamma0 0.11 --time 1500 | tis-behaviour"
+tis-active --index 0 --rate 0.19 --gamma0 0.11 --time 1500 --trace "$out/trace.tsv" \
+	"$out/phex.mesh" >"$out/active.mesh"
+tis-behaviour --l0 "$l0" "$out/trace.tsv" >"$out/behaviour.tsv"
+awk -F '\t' '/^#/ || !h++ { next } { printf "behaviour %s: amplitude %.4f, period %.2f, mean length %.4f\n", $1, $6, $7, $12 }' \
+	"$out/behaviour.tsv"
+printf '\nfiles in %s/: relaxed.mesh relaxed.svg fl.tsv fit.tsv summary.tsv phex.mesh stability.tsv\n' "$out"
+printf '                 trace.tsv active.mesh behaviour.tsv\n'
