@@ -487,13 +487,31 @@ const char *mesh_state_get(const mesh *m, const char *name)
 	return NULL;
 }
 
+/* Text as the reader gives it back: line breaks become blanks and leading
+ * blanks go (the reader skips the blanks after a keyword), so that what is
+ * written reads back to the same text. */
+static void line_text(char *s)
+{
+	for (char *p = s; *p; p++)
+		if (*p == '\n' || *p == '\r')
+			*p = ' ';
+	size_t k = strspn(s, " \t");
+	if (k > 0)
+		memmove(s, s + k, strlen(s + k) + 1);
+}
+
 int mesh_state_set(mesh *m, const char *name, const char *text)
 {
-	if (!name_ok(name) || strchr(text, '\n'))
+	if (!name_ok(name))
 		return MESH_EDOM;
 	char *t = strdup(text);
 	if (t == NULL)
 		return MESH_ENOMEM;
+	line_text(t);
+	if (*t == '\0') {
+		free(t);
+		return MESH_EDOM;
+	}
 	for (int i = 0; i < m->nstate; i++)
 		if (strcmp(m->state[i].name, name) == 0) {
 			free(m->state[i].text);
@@ -541,9 +559,7 @@ int mesh_history_add(mesh *m, const char *text)
 	char *s = strdup(text);
 	if (s == NULL)
 		return MESH_ENOMEM;
-	for (char *p = s; *p; p++)
-		if (*p == '\n' || *p == '\r')
-			*p = ' ';
+	line_text(s);
 	h[m->nhist++] = s;
 	return MESH_OK;
 }
@@ -850,7 +866,10 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 				BAD("bad state name '%.40s'", nm);
 			if (mesh_state_get(m, nm))
 				BAD("second 'state %.40s' line", nm);
-			if (mesh_state_set(m, nm, rd->srest) != MESH_OK)
+			int sst = mesh_state_set(m, nm, rd->srest);
+			if (sst == MESH_EDOM)
+				BAD("expected 'state NAME TEXT'");
+			if (sst != MESH_OK)
 				NOMEM();
 		} else if (strcmp(k, "history") == 0) {
 			if (mesh_history_add(m, rd->rest ? rd->rest : "") != MESH_OK)

@@ -27,7 +27,7 @@ static mesh *read_str(const char *s, long *line, int *st, mesh_error *err)
 
 int main(void)
 {
-	tap_plan(20);
+	tap_plan(21);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 4, &m, &err);
@@ -138,6 +138,24 @@ int main(void)
 	ok(sc->nstate == 0 && mesh_state_get(sc, "t") == NULL &&
 	   mesh_state_set(sc, "1x", "a") == MESH_EDOM, "state cleared; bad names refused");
 	mesh_free(sc);
+	/* text that starts with a line break or blanks reads back as written
+	 * (fuzz/regress/mesh/history-cr-start) */
+	mesh *fx = mesh_copy(b);
+	mesh_history_add(fx, "\r -p x");
+	mesh_state_set(fx, "u", " \t\rv w");
+	size_t nf1, nf2;
+	char *f1 = write_str(fx, &nf1);
+	long lf = 0;
+	int stf;
+	mesh *fy = read_str(f1, &lf, &stf, &err);
+	char *f2 = fy ? write_str(fy, &nf2) : NULL;
+	ok(f2 && nf1 == nf2 && memcmp(f1, f2, nf1) == 0 && strcmp(mesh_state_get(fy, "u"), "v w") == 0 &&
+	   mesh_state_set(fx, "u", " \r ") == MESH_EDOM,
+	   "history and state text beginning with a line break or blanks: a fixed point of write and read");
+	free(f1);
+	free(f2);
+	mesh_free(fx);
+	mesh_free(fy);
 	ok(mesh_junction_find(b, 0, 0) == -1, "no junction from a vertex to itself");
 
 	/* The 2x2 honeycomb: each pair of cells shares two junctions. */
