@@ -10,21 +10,7 @@ set -eu
 top=$(cd "$(dirname "$0")/.." && pwd)
 T=$(mktemp -d "${TMPDIR:-/tmp}/tis-bench.XXXXXX")
 trap 'rm -rf "$T"' EXIT
-now() { date +%s.%N; }
-# best of $1 runs of the rest of the command line, seconds
-best() {
-	k=$1
-	shift
-	b=
-	while [ "$k" -gt 0 ]; do
-		t0=$(now)
-		"$@" >"$T/out.tsv" || [ $? = 3 ]   # 3: some point missed the tolerance
-		t=$(echo "$(now) - $t0" | bc)
-		if [ -z "$b" ] || [ "$(echo "$t < $b" | bc)" = 1 ]; then b=$t; fi
-		k=$((k - 1))
-	done
-	echo "$b"
-}
+. "$top/bench/lib.sh"
 tis-hex 18 18 --p0 3.60 >"$T/h360.mesh"
 tis-hex 18 18 --p0 3.70 >"$T/h370.mesh"
 if [ -f "$top/samples/disordered-1.mesh" ]; then

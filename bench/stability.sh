@@ -14,20 +14,7 @@ top=$(cd "$(dirname "$0")/.." && pwd)
 cd "$top"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tis-bench.XXXXXX")
 trap 'rm -rf "$T"' EXIT
-now() { date +%s.%N; }
-best() {
-	k=$1
-	shift
-	b=
-	while [ "$k" -gt 0 ]; do
-		t0=$(now)
-		"$@" >"$T/out.tsv"
-		t=$(echo "$(now) - $t0" | bc)
-		if [ -z "$b" ] || [ "$(echo "$t < $b" | bc)" = 1 ]; then b=$t; fi
-		k=$((k - 1))
-	done
-	printf '%.3f' "$b"
-}
+. "$top/bench/lib.sh"
 mkdir -p bench/out
 ${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh \
 	bench/eigen-bench.c libmesh/libmesh.a -lcholmod -lsundials_cvode -lsundials_nvecserial \

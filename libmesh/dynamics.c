@@ -701,6 +701,27 @@ static int bad(mesh_error *err, const char *what)
 	                      what);
 }
 
+/* One item "K X1 .. Xn" of a state line: an index K in [0, nmax) into *k
+ * and n numbers into x; the text after it and its blanks, or NULL if the
+ * item is malformed. */
+static const char *next_item(const char *p, long nmax, int n, long *k, double *x)
+{
+	char *end;
+	errno = 0;
+	*k = strtol(p, &end, 10);
+	if (end == p || errno || *k < 0 || *k >= nmax)
+		return NULL;
+	for (int i = 0; i < n; i++) {
+		p = end;
+		x[i] = strtod(p, &end);
+		if (end == p)
+			return NULL;
+	}
+	while (*end == ' ')
+		end++;
+	return end;
+}
+
 /* Renumber and orient the junctions as listed in text (pairs a b). */
 static int reorder_junctions(mesh *m, const char *text, mesh_error *err)
 {
@@ -775,23 +796,13 @@ int dyn_state_restore_mesh(mesh *m, mesh_error *err)
 		return MESH_OK;
 	if (jo == NULL)
 		return bad(err, "dyn_junctions");
+	long v;
+	double xy[2];
 	for (const char *p = r ? r : ""; *p;) {
-		char *end;
-		errno = 0;
-		long v = strtol(p, &end, 10);
-		if (end == p || errno || v < 0 || v >= m->nv)
+		if ((p = next_item(p, m->nv, 2, &v, xy)) == NULL || !isfinite(xy[0]) || !isfinite(xy[1]))
 			return bad(err, "dyn_r");
-		p = end;
-		double x = strtod(p, &end);
-		const char *q = end;
-		double y = strtod(q, &end);
-		if (end == q || !isfinite(x) || !isfinite(y))
-			return bad(err, "dyn_r");
-		m->r[2 * v] = x;
-		m->r[2 * v + 1] = y;
-		p = end;
-		while (*p == ' ')
-			p++;
+		m->r[2 * v] = xy[0];
+		m->r[2 * v + 1] = xy[1];
 	}
 	/* image offsets from the exact coordinates, then the run's numbering */
 	int st = mesh_build(m, NULL, err);
@@ -823,21 +834,13 @@ int dyn_state_load(dyn *d, mesh_error *err)
 	}
 	const char *t1 = mesh_state_get(m, "dyn_t1");
 	memset(d->incand, 0, (size_t)m->nj);
+	long j;
+	double l;
 	for (const char *p = t1 ? t1 : ""; *p;) {
-		char *end;
-		errno = 0;
-		long j = strtol(p, &end, 10);
-		if (end == p || errno || j < 0 || j >= m->nj)
-			return bad(err, "dyn_t1");
-		p = end;
-		double l = strtod(p, &end);
-		if (end == p || isnan(l))
+		if ((p = next_item(p, m->nj, 1, &j, &l)) == NULL || isnan(l))
 			return bad(err, "dyn_t1");
 		d->incand[j] = 1;
 		d->lprev[j] = l;
-		p = end;
-		while (*p == ' ')
-			p++;
 	}
 	d->c = c;
 	d->nt1_sorted = sorted;

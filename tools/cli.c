@@ -2,6 +2,7 @@
 
 #include <errno.h>
 #include <getopt.h>
+#include <limits.h>
 #include <gsl/gsl_errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -137,10 +138,8 @@ double cli_double_range(const char *opt, const char *arg, double lo, double hi)
 
 long cli_long(const char *opt, const char *arg, long lo, long hi)
 {
-	char *end;
-	errno = 0;
-	long v = strtol(arg, &end, 10);
-	if (end == arg || *end != '\0' || errno == ERANGE)
+	long v;
+	if (!range_long(arg, LONG_MIN, LONG_MAX, &v))
 		cli_usage_error("%s: not an integer: '%s'", opt, arg);
 	if (v < lo || v > hi)
 		cli_usage_error("%s: %ld is out of range [%ld, %ld]", opt, v, lo, hi);

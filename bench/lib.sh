@@ -1,0 +1,19 @@
+# lib.sh - what the benchmark scripts share; source it after setting T (a
+# scratch directory).  Not executable, so make bench does not run it.
+now() { date +%s.%N; }
+# best K CMD...: the shortest wall time of K runs of CMD, in seconds; the
+# command's stdout goes to $T/out.tsv (the last run's stays there), and
+# exit 3 (some point missed its tolerance) still counts as a run
+best() {
+	k=$1
+	shift
+	b=
+	while [ "$k" -gt 0 ]; do
+		t0=$(now)
+		"$@" >"$T/out.tsv" || [ $? = 3 ]
+		t=$(echo "$(now) - $t0" | bc)
+		if [ -z "$b" ] || [ "$(echo "$t < $b" | bc)" = 1 ]; then b=$t; fi
+		k=$((k - 1))
+	done
+	printf '%.3f\n' "$b"
+}
