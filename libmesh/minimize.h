@@ -37,6 +37,20 @@ typedef void (*min_hessvec)(const double *x, const double *v, double *hv,
  * largest vertex force when x holds vertex coordinates. */
 typedef double (*min_gnorm)(int n, const double *grad, void *data);
 
+/* mesh_relax's preconditioner.  MIN_PC_CHOLESKY: the complete sparse
+ * Cholesky factor of H + sI (sparse.h), whose memory grows faster than
+ * the tissue (1.01e9 entries of L, 8 GB, at 10^6 cells).  MIN_PC_SCHWARZ:
+ * two-level additive Schwarz (precond.h) on patches of pcblock vertices
+ * consecutive along a Hilbert curve of their positions, memory linear in
+ * the tissue.  MIN_PC_AUTO: Cholesky up to MIN_PC_FULL_NV vertices (and
+ * while its factor fits in pcmem), Schwarz above; chosen by measurement,
+ * bench/RESULTS.md. */
+typedef enum { MIN_PC_AUTO, MIN_PC_CHOLESKY, MIN_PC_SCHWARZ } min_pckind;
+#define MIN_PC_FULL_NV 400000
+#define MIN_PC_BLOCK 512
+#define MIN_PC_OVERLAP 4
+#define MIN_PC_COARSE 6.0  /* coarse grid spacing, in cell lengths */
+
 typedef struct {
 	min_algo algo;
 	double ftol;       /* converged when the force measure <= ftol */
@@ -68,9 +82,16 @@ typedef struct {
 	                      sparse Cholesky preconditioner; 0: plain CG
 	                      (min_run uses pcsetup/pcapply only when set) */
 	double pcmem;      /* mesh_relax: bytes the numeric factorization may
-	                      take (default 4e9); a larger factor (10^6 cells:
-	                      8 GB, bench/RESULTS.md) is not built and CG goes
-	                      on unpreconditioned */
+	                      take (default 4e9); a larger complete factor
+	                      (10^6 cells: 8 GB, bench/RESULTS.md) is not built
+	                      and the Schwarz preconditioner is used instead
+	                      (CG goes on unpreconditioned if that too is
+	                      larger) */
+	min_pckind pckind; /* mesh_relax's preconditioner (default MIN_PC_AUTO) */
+	int pcblock;       /* MIN_PC_SCHWARZ: vertices per block (default
+	                      MIN_PC_BLOCK) */
+	int pcoverlap;     /* MIN_PC_SCHWARZ: layers of overlap (default
+	                      MIN_PC_OVERLAP) */
 } min_opts;
 
 typedef struct {
@@ -86,7 +107,8 @@ typedef struct {
 
 /* Defaults: MIN_NEWTON (fastest to every force level in bench/relax.sh,
  * see bench/RESULTS.md) with polish, ftol 1e-10, maxeval 100000, gnorm,
- * hessvec, pcsetup, pcapply and stop NULL, pcmaxit 6, precond 1, pcmem 4e9.  maxeval bounds objective evaluations plus Hessian-vector
+ * hessvec, pcsetup, pcapply and stop NULL, pcmaxit 6, precond 1, pcmem 4e9,
+ * pckind MIN_PC_AUTO, pcblock MIN_PC_BLOCK.  maxeval bounds objective evaluations plus Hessian-vector
  * products together. */
 void min_opts_init(min_opts *o);
 
@@ -106,7 +128,9 @@ int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
 /* Relax all vertex positions of m to the nearest minimum of W at p, with
  * the analytic Hessian for Newton steps (o->hessvec is ignored) and, unless
  * o->precond is 0, CG preconditioned by a shifted sparse Cholesky
- * factorization of the exact Hessian (o->pcsetup and pcapply are ignored).
+ * factorization of the exact Hessian or, above MIN_PC_FULL_NV vertices,
+ * by two-level Schwarz on factored patches (o->pckind; o->pcsetup and
+ * pcapply are ignored).
  * Never returns a worse point than the start: not a higher energy, and not
  * a higher max force at an energy equal to rounding (1e-13 (1 + |W|)).  The
  * topology is unchanged; coordinates are wrapped into the box at the end.
