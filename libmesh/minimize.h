@@ -47,8 +47,8 @@ typedef double (*min_gnorm)(int n, const double *grad, void *data);
  * bench/RESULTS.md. */
 typedef enum { MIN_PC_AUTO, MIN_PC_CHOLESKY, MIN_PC_SCHWARZ } min_pckind;
 #define MIN_PC_FULL_NV 400000
-#define MIN_PC_BLOCK 512
-#define MIN_PC_OVERLAP 4
+#define MIN_PC_BLOCK 2048
+#define MIN_PC_OVERLAP 2
 #define MIN_PC_COARSE 6.0  /* coarse grid spacing, in cell lengths */
 
 typedef struct {

@@ -90,7 +90,10 @@ static int block_setup(pcschwarz *s, const spsym *a, int b, int *loc, int *mark,
 			if ((s->src[b][p] = spsym_find(a, v[bb->rowi[p]], v[lj])) < 0)
 				return -1;  /* cannot happen: the pattern came from a */
 	s->bc[b] = spchol_analyze(bb);
-	return s->bc[b] ? 0 : -1;
+	if (s->bc[b] == NULL)
+		return -1;
+	spchol_lean(s->bc[b]);
+	return 0;
 }
 
 /* The coarse level: element pairs that a couples, the coarse pattern,
