@@ -643,29 +643,39 @@ static int cmp_hkey(const void *a, const void *b)
 	return (x->v > y->v) - (x->v < y->v);
 }
 
-/* The bilinear hat functions of a periodic gx x gy grid over the box,
- * spacing ~MIN_PC_COARSE cell lengths, one element per grid square and
- * component: nodes 2 (node) + c, elements 2 (square) + c. */
-static int relax_coarse(const mesh *m, const double *x, pccoarse *co, int **node,
-			int **elem, double **w)
+void mesh_pcgrid_free(mesh_pcgrid *g)
+{
+	free(g->node);
+	free(g->elem);
+	free(g->w);
+	*g = (mesh_pcgrid){ 0 };
+}
+
+int mesh_pcgrid_build(const mesh *m, const double *x, double spacing, mesh_pcgrid *g)
 {
 	const int nv = m->nv;
-	double h = MIN_PC_COARSE * sqrt(m->lx * m->ly / (m->nc > 0 ? m->nc : 1));
-	int gx = (int)fmax(2, round(m->lx / h)), gy = (int)fmax(2, round(m->ly / h));
-	if ((double)gx * gy > 1e8)
-		return -1;
-	*node = malloc(8 * (size_t)gx * gy * sizeof **node);
-	*elem = malloc(2 * (size_t)nv * sizeof **elem);
-	*w = malloc(8 * (size_t)nv * sizeof **w);
-	if (*node == NULL || *elem == NULL || *w == NULL)
-		return -1;
+	*g = (mesh_pcgrid){ 0 };
+	if (!(spacing > 0) || !isfinite(spacing))
+		return MESH_EDOM;
+	double h = spacing * sqrt(m->lx * m->ly / (m->nc > 0 ? m->nc : 1));
+	double fgx = fmax(2, round(m->lx / h)), fgy = fmax(2, round(m->ly / h));
+	if (!(fgx * fgy <= 1e8))
+		return MESH_EDOM;
+	int gx = (int)fgx, gy = (int)fgy;
+	g->node = malloc(8 * (size_t)gx * gy * sizeof *g->node);
+	g->elem = malloc((2 * (size_t)nv + 1) * sizeof *g->elem);
+	g->w = malloc((8 * (size_t)nv + 1) * sizeof *g->w);
+	if (g->node == NULL || g->elem == NULL || g->w == NULL) {
+		mesh_pcgrid_free(g);
+		return MESH_ENOMEM;
+	}
 	for (int ix = 0; ix < gx; ix++)
 		for (int iy = 0; iy < gy; iy++) {
 			int sq = ix * gy + iy, jx = (ix + 1) % gx, jy = (iy + 1) % gy;
 			int nd[4] = { ix * gy + iy, jx * gy + iy, ix * gy + jy, jx * gy + jy };
 			for (int c = 0; c < 2; c++)
 				for (int u = 0; u < 4; u++)
-					(*node)[4 * (2 * sq + c) + u] = 2 * nd[u] + c;
+					g->node[4 * (2 * sq + c) + u] = 2 * nd[u] + c;
 		}
 	for (int v = 0; v < nv; v++) {
 		double fx = x[2 * v] / m->lx * gx, fy = x[2 * v + 1] / m->ly * gy;
@@ -676,30 +686,29 @@ static int relax_coarse(const mesh *m, const double *x, pccoarse *co, int **node
 		fy -= floor(fy);
 		double wt[4] = { (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy };
 		for (int c = 0; c < 2; c++) {
-			(*elem)[2 * v + c] = 2 * (ix * gy + iy) + c;
+			g->elem[2 * v + c] = 2 * (ix * gy + iy) + c;
 			for (int u = 0; u < 4; u++)
-				(*w)[4 * (2 * v + c) + u] = wt[u];
+				g->w[4 * (2 * v + c) + u] = wt[u];
 		}
 	}
-	*co = (pccoarse){ .nnode = 2 * gx * gy, .nelem = 2 * gx * gy, .k = 4,
-			  .node = *node, .elem = *elem, .w = *w };
-	return 0;
+	g->co = (pccoarse){ .nnode = 2 * gx * gy, .nelem = 2 * gx * gy, .k = 4,
+			    .node = g->node, .elem = g->elem, .w = g->w };
+	return MESH_OK;
 }
 
 /* Patches of pcblock vertices consecutive along the Hilbert curve of the
  * positions x (compact whatever the mesh's numbering), both coordinates
- * of a vertex in its vertex's patch; the coarse grid of relax_coarse. */
+ * of a vertex in its vertex's patch; the coarse grid of mesh_pcgrid_build. */
 static pcschwarz *relax_schwarz(const relax_ctx *rc, const double *x)
 {
 	const mesh *m = rc->m;
 	int nv = m->nv, bs = rc->pcblock > 0 ? rc->pcblock : MIN_PC_BLOCK;
 	int nb = (nv + bs - 1) / bs;
 	hkey *k = malloc((size_t)nv * sizeof *k);
-	int *part = malloc(2 * (size_t)nv * sizeof *part), *node = NULL, *elem = NULL;
-	double *w = NULL;
-	pccoarse co;
+	int *part = malloc(2 * (size_t)nv * sizeof *part);
+	mesh_pcgrid g;
 	pcschwarz *sw = NULL;
-	if (k && part && relax_coarse(m, x, &co, &node, &elem, &w) == 0) {
+	if (k && part && mesh_pcgrid_build(m, x, MIN_PC_COARSE, &g) == MESH_OK) {
 		for (int v = 0; v < nv; v++)
 			k[v] = (hkey){ order_hilbert(x[2 * v], x[2 * v + 1], m->lx, m->ly), v };
 		qsort(k, nv, sizeof *k, cmp_hkey);
@@ -708,13 +717,11 @@ static pcschwarz *relax_schwarz(const relax_ctx *rc, const double *x)
 			int b = (int)((long)r * nb / nv);
 			part[2 * k[r].v] = part[2 * k[r].v + 1] = b;
 		}
-		sw = pcschwarz_alloc(rc->hs->h, part, nb, rc->overlap, &co);
+		sw = pcschwarz_alloc(rc->hs->h, part, nb, rc->overlap, &g.co);
+		mesh_pcgrid_free(&g);
 	}
 	free(k);
 	free(part);
-	free(node);
-	free(elem);
-	free(w);
 	return sw;
 }
 

@@ -14,6 +14,7 @@
 
 #include "geom.h"
 #include "mesh.h"
+#include "precond.h"
 
 typedef enum {
 	MIN_LBFGS,       /* NLopt L-BFGS (restarted while it makes progress) */
@@ -137,5 +138,18 @@ int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
  * Status as min_run, and MESH_EINVAL (m unchanged) if the result would have
  * a cell of non-positive area. */
 int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep);
+
+/* The coarse level of mesh_relax's Schwarz preconditioner: the bilinear
+ * hat functions of a periodic grid over m's box, spacing about `spacing`
+ * cell lengths (sqrt of the mean cell area; at least 2 x 2 nodes), one
+ * element per grid square and component (nodes 2 g + c, c = 0 for x, 1
+ * for y), for the vertex positions x.  g owns the arrays co points to. */
+typedef struct {
+	pccoarse co;
+	int *node, *elem;
+	double *w;
+} mesh_pcgrid;
+int mesh_pcgrid_build(const mesh *m, const double *x, double spacing, mesh_pcgrid *g);
+void mesh_pcgrid_free(mesh_pcgrid *g);
 
 #endif

@@ -196,6 +196,20 @@ static int cmp_int(const void *x, const void *y)
 	return (a > b) - (a < b);
 }
 
+/* Appends v to the growing array *a (*len used of *cap). */
+static int push(int **a, size_t *cap, size_t *len, int v)
+{
+	if (*len == *cap) {
+		int *t = realloc(*a, 2 * *cap * sizeof *t);
+		if (t == NULL)
+			return -1;
+		*a = t;
+		*cap *= 2;
+	}
+	(*a)[(*len)++] = v;
+	return 0;
+}
+
 /* Each block's variables: its own (part) and overlap layers of a's graph
  * around them, ascending, into s->bstart/vars.  adj: a's graph, both
  * triangles, as CSR. */
@@ -249,17 +263,9 @@ static int grow_blocks(pcschwarz *s, const spsym *a, const int *part, int overla
 		mark[i] = -1;
 	for (int b = 0; b < nb; b++) {
 		size_t first = len, layer = len;
-		for (int k = ostart[b]; k <= ostart[b + 1]; k++) {
-			if (len == cap) {
-				int *t = realloc(s->vars, 2 * cap * sizeof *t);
-				if (t == NULL)
-					goto out;
-				s->vars = t;
-				cap *= 2;
-			}
-			if (k == ostart[b + 1])
-				break;
-			s->vars[len++] = own[k];
+		for (int k = ostart[b]; k < ostart[b + 1]; k++) {
+			if (push(&s->vars, &cap, &len, own[k]) != 0)
+				goto out;
 			mark[own[k]] = b;
 		}
 		for (int l = 0; l < overlap; l++) {
@@ -271,14 +277,8 @@ static int grow_blocks(pcschwarz *s, const spsym *a, const int *part, int overla
 					if (mark[j] == b)
 						continue;
 					mark[j] = b;
-					if (len == cap) {
-						int *t = realloc(s->vars, 2 * cap * sizeof *t);
-						if (t == NULL)
-							goto out;
-						s->vars = t;
-						cap *= 2;
-					}
-					s->vars[len++] = j;
+					if (push(&s->vars, &cap, &len, j) != 0)
+						goto out;
 				}
 			}
 			layer = end;
@@ -414,9 +414,7 @@ int pcschwarz_factor(pcschwarz *s, const spsym *a, double shift)
 
 int pcschwarz_precond(pcschwarz *s, const spsym *a, double *shift)
 {
-	double dmax = 0;
-	for (int j = 0; j < a->n; j++)
-		dmax = fmax(dmax, fabs(a->val[a->colp[j]]));
+	double dmax = spsym_diagmax(a);
 	if (!(dmax > 0) || !isfinite(dmax))
 		return MESH_EDOM;
 	double sh = 1e-9 * dmax;

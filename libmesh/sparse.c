@@ -126,6 +126,14 @@ int spsym_find(const spsym *a, int i, int j)
 	return -1;
 }
 
+double spsym_diagmax(const spsym *a)
+{
+	double dmax = 0;
+	for (int j = 0; j < a->n; j++)
+		dmax = fmax(dmax, fabs(a->val[a->colp[j]]));
+	return dmax;
+}
+
 void spsym_mulvec(const spsym *a, const double *x, double *y)
 {
 	for (int i = 0; i < a->n; i++)
@@ -528,9 +536,7 @@ int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift)
 
 int spchol_precond(spchol *c, const spsym *a, double *shift)
 {
-	double dmax = 0;
-	for (int j = 0; j < a->n; j++)
-		dmax = fmax(dmax, fabs(a->val[a->colp[j]]));
+	double dmax = spsym_diagmax(a);
 	if (!(dmax > 0) || !isfinite(dmax))
 		return MESH_EDOM;
 	double s = isfinite(*shift) ? *shift / 100 : 0;

@@ -32,6 +32,8 @@ void spsym_zero(spsym *a);
 /* Position of entry (i, j) (either order) in rowi/val, or -1 if it is not
  * in the pattern.  Binary search in one column. */
 int spsym_find(const spsym *a, int i, int j);
+/* The largest |diagonal entry| (fmax's: NaN entries are passed over). */
+double spsym_diagmax(const spsym *a);
 /* y = A x (the full symmetric matrix). */
 void spsym_mulvec(const spsym *a, const double *x, double *y);
 

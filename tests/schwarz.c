@@ -127,7 +127,7 @@ static int pcg(const spsym *a, double shift, pcschwarz *s, spchol *c, const doub
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(17);
+	tap_plan(19);
 	mesh_error err;
 	model p = { 3.6, 100 };
 
@@ -294,40 +294,19 @@ int main(void)
 		/* at the minimum: PCG on H + 1e-6 I */
 		mesh_hessian_sparse(m, m->r, &p, hs);
 		const double shift = 1e-6;
-		pccoarse co;
-		int *node, *elem;
-		double *w;
-		/* the grid of relax_coarse, spacing 6 cells: 4 x 4 nodes */
-		int g = 4;
-		node = malloc(8 * g * g * sizeof *node);
-		elem = malloc(n * sizeof *elem);
-		w = malloc(4 * n * sizeof *w);
-		for (int ix = 0; ix < g; ix++)
-			for (int iy = 0; iy < g; iy++) {
-				int sq = ix * g + iy, jx = (ix + 1) % g, jy = (iy + 1) % g;
-				int nd[4] = { ix * g + iy, jx * g + iy, ix * g + jy, jx * g + jy };
-				for (int c = 0; c < 2; c++)
-					for (int u = 0; u < 4; u++)
-						node[4 * (2 * sq + c) + u] = 2 * nd[u] + c;
-			}
-		for (int v = 0; v < m->nv; v++) {
-			double fx = m->r[2 * v] / m->lx * g, fy = m->r[2 * v + 1] / m->ly * g;
-			int ix = (int)fx % g, iy = (int)fy % g;
-			fx -= floor(fx);
-			fy -= floor(fy);
-			double wt[4] = { (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy };
-			for (int c = 0; c < 2; c++) {
-				elem[2 * v + c] = 2 * (ix * g + iy) + c;
-				for (int u = 0; u < 4; u++)
-					w[4 * (2 * v + c) + u] = wt[u];
-			}
-		}
-		co = (pccoarse){ .nnode = 2 * g * g, .nelem = 2 * g * g, .k = 4, .node = node,
-				 .elem = elem, .w = w };
+		/* the grid mesh_relax builds, spacing 6 cells: 4 x 4 nodes */
+		mesh_pcgrid g;
+		int gst = mesh_pcgrid_build(m, m->r, 6, &g);
+		ok(gst == MESH_OK && g.co.nnode == 2 * 4 * 4 && g.co.k == 4,
+		   "coarse grid: %d nodes", g.co.nnode);
+		double wsum = 0;
+		for (int i = 0; i < 4 * n; i++)
+			wsum += g.w[i];
+		ok(fabs(wsum - n) < 1e-9, "bilinear weights are a partition of unity (%.12g / %d)", wsum, n);
 		/* spatial patches: vertex rows of the honeycomb (4 blocks) */
 		for (int v = 0; v < m->nv; v++)
 			part[2 * v] = part[2 * v + 1] = (int)(m->r[2 * v + 1] / m->ly * 4) % 4;
-		s = pcschwarz_alloc(hs->h, part, 4, 2, &co);
+		s = pcschwarz_alloc(hs->h, part, 4, 2, &g.co);
 		pcschwarz *s0 = pcschwarz_alloc(hs->h, part, 4, 2, NULL);
 		spchol *ch = spchol_analyze(hs->h);
 		ok(s && s0 && ch && pcschwarz_factor(s, hs->h, shift) == MESH_OK &&
@@ -359,9 +338,7 @@ int main(void)
 		free(b);
 		free(x);
 		free(xc);
-		free(node);
-		free(elem);
-		free(w);
+		mesh_pcgrid_free(&g);
 		free(part);
 		mesh_free(mc);
 		hessian_sparse_free(hs);
