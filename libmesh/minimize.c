@@ -4,6 +4,8 @@
  * are at rounding level, near max force 1e-7 for a 324-cell tissue). */
 #include "minimize.h"
 #include "hessian.h"
+#include "order.h"
+#include "precond.h"
 #include "sparse.h"
 
 #include <math.h>
@@ -27,7 +29,9 @@ void min_opts_init(min_opts *o)
 	*o = (min_opts){ .algo = MIN_NEWTON, .ftol = 1e-10, .maxeval = 100000,
 	                 .gnorm = NULL, .polish = 1, .hessvec = NULL,
 	                 .pcsetup = NULL, .pcapply = NULL, .pcmaxit = 6,
-	                 .precond = 1, .pcmem = 4e9 };
+	                 .precond = 1, .pcmem = 4e9,
+	                 .pckind = MIN_PC_AUTO, .pcblock = MIN_PC_BLOCK,
+	                 .pcoverlap = MIN_PC_OVERLAP };
 }
 
 const char *min_algo_name(min_algo a)
@@ -604,10 +608,14 @@ typedef struct {
 	energy_ws *ew;
 	hessian_ws *hw;
 	hessian_sparse *hs;   /* preconditioner: the sparse Hessian, */
-	spchol *ch;           /* its factorization (NULL until first needed), */
+	spchol *ch;           /* its complete factorization, or */
+	pcschwarz *sw;        /* the Schwarz one (NULL until first needed) */
 	double shift;         /* the last shift used */
 	double pcmem;         /* min_opts.pcmem */
-	int have;             /* ch holds a factor */
+	min_pckind kind;      /* which (never AUTO once the first is built) */
+	int pcblock;          /* min_opts.pcblock */
+	int overlap;          /* min_opts.pcoverlap */
+	int have;             /* ch or sw holds a factor */
 } relax_ctx;
 
 static double relax_f(const double *x, double *grad, void *data)
@@ -622,17 +630,128 @@ static void relax_hv(const double *x, const double *v, double *hv, void *data)
 	mesh_hessvec(rc->m, x, rc->p, v, hv, rc->hw);
 }
 
+typedef struct {
+	uint32_t key;
+	int v;
+} hkey;
+
+static int cmp_hkey(const void *a, const void *b)
+{
+	const hkey *x = a, *y = b;
+	if (x->key != y->key)
+		return x->key < y->key ? -1 : 1;
+	return (x->v > y->v) - (x->v < y->v);
+}
+
+void mesh_pcgrid_free(mesh_pcgrid *g)
+{
+	free(g->node);
+	free(g->elem);
+	free(g->w);
+	*g = (mesh_pcgrid){ 0 };
+}
+
+int mesh_pcgrid_build(const mesh *m, const double *x, double spacing, mesh_pcgrid *g)
+{
+	const int nv = m->nv;
+	*g = (mesh_pcgrid){ 0 };
+	if (!(spacing > 0) || !isfinite(spacing))
+		return MESH_EDOM;
+	double h = spacing * sqrt(m->lx * m->ly / (m->nc > 0 ? m->nc : 1));
+	double fgx = fmax(2, round(m->lx / h)), fgy = fmax(2, round(m->ly / h));
+	if (!(fgx * fgy <= 1e8))
+		return MESH_EDOM;
+	int gx = (int)fgx, gy = (int)fgy;
+	g->node = malloc(8 * (size_t)gx * gy * sizeof *g->node);
+	g->elem = malloc((2 * (size_t)nv + 1) * sizeof *g->elem);
+	g->w = malloc((8 * (size_t)nv + 1) * sizeof *g->w);
+	if (g->node == NULL || g->elem == NULL || g->w == NULL) {
+		mesh_pcgrid_free(g);
+		return MESH_ENOMEM;
+	}
+	for (int ix = 0; ix < gx; ix++)
+		for (int iy = 0; iy < gy; iy++) {
+			int sq = ix * gy + iy, jx = (ix + 1) % gx, jy = (iy + 1) % gy;
+			int nd[4] = { ix * gy + iy, jx * gy + iy, ix * gy + jy, jx * gy + jy };
+			for (int c = 0; c < 2; c++)
+				for (int u = 0; u < 4; u++)
+					g->node[4 * (2 * sq + c) + u] = 2 * nd[u] + c;
+		}
+	for (int v = 0; v < nv; v++) {
+		double fx = x[2 * v] / m->lx * gx, fy = x[2 * v + 1] / m->ly * gy;
+		fx -= gx * floor(fx / gx);
+		fy -= gy * floor(fy / gy);
+		int ix = (int)fx % gx, iy = (int)fy % gy;
+		fx -= floor(fx);
+		fy -= floor(fy);
+		double wt[4] = { (1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy };
+		for (int c = 0; c < 2; c++) {
+			g->elem[2 * v + c] = 2 * (ix * gy + iy) + c;
+			for (int u = 0; u < 4; u++)
+				g->w[4 * (2 * v + c) + u] = wt[u];
+		}
+	}
+	g->co = (pccoarse){ .nnode = 2 * gx * gy, .nelem = 2 * gx * gy, .k = 4,
+			    .node = g->node, .elem = g->elem, .w = g->w };
+	return MESH_OK;
+}
+
+/* Patches of pcblock vertices consecutive along the Hilbert curve of the
+ * positions x (compact whatever the mesh's numbering), both coordinates
+ * of a vertex in its vertex's patch; the coarse grid of mesh_pcgrid_build. */
+static pcschwarz *relax_schwarz(const relax_ctx *rc, const double *x)
+{
+	const mesh *m = rc->m;
+	int nv = m->nv, bs = rc->pcblock > 0 ? rc->pcblock : MIN_PC_BLOCK;
+	int nb = (nv + bs - 1) / bs;
+	hkey *k = malloc((size_t)nv * sizeof *k);
+	int *part = malloc(2 * (size_t)nv * sizeof *part);
+	mesh_pcgrid g;
+	pcschwarz *sw = NULL;
+	if (k && part && mesh_pcgrid_build(m, x, MIN_PC_COARSE, &g) == MESH_OK) {
+		for (int v = 0; v < nv; v++)
+			k[v] = (hkey){ order_hilbert(x[2 * v], x[2 * v + 1], m->lx, m->ly), v };
+		qsort(k, nv, sizeof *k, cmp_hkey);
+		/* equal patches: nb of them, sizes differing by at most one */
+		for (int r = 0; r < nv; r++) {
+			int b = (int)((long)r * nb / nv);
+			part[2 * k[r].v] = part[2 * k[r].v + 1] = b;
+		}
+		sw = pcschwarz_alloc(rc->hs->h, part, nb, rc->overlap, &g.co);
+		mesh_pcgrid_free(&g);
+	}
+	free(k);
+	free(part);
+	return sw;
+}
+
+/* Builds the preconditioner at x; the first call chooses its kind. */
 static int relax_pcsetup(const double *x, void *data)
 {
 	relax_ctx *rc = data;
 	rc->have = 0;
 	mesh_hessian_sparse(rc->m, x, rc->p, rc->hs);
-	if (rc->ch == NULL && (rc->ch = spchol_analyze(rc->hs->h)) == NULL)
+	if (rc->kind == MIN_PC_AUTO)
+		rc->kind = rc->m->nv > MIN_PC_FULL_NV ? MIN_PC_SCHWARZ : MIN_PC_CHOLESKY;
+	if (rc->kind == MIN_PC_CHOLESKY) {
+		if (rc->ch == NULL && (rc->ch = spchol_analyze(rc->hs->h)) == NULL)
+			return -1;
+		if (!(spchol_bytes(rc->ch) <= rc->pcmem)) {
+			spchol_free(rc->ch);
+			rc->ch = NULL;
+			rc->kind = MIN_PC_SCHWARZ;
+		}
+	}
+	if (rc->kind == MIN_PC_SCHWARZ) {
+		if (rc->sw == NULL && (rc->sw = relax_schwarz(rc, x)) == NULL)
+			return -1;
+		if (!(pcschwarz_bytes(rc->sw) <= rc->pcmem))
+			return -1;
+		if (pcschwarz_precond(rc->sw, rc->hs->h, &rc->shift) != MESH_OK)
+			return -1;
+	} else if (spchol_precond(rc->ch, rc->hs->h, &rc->shift) != MESH_OK) {
 		return -1;
-	if (!(spchol_bytes(rc->ch) <= rc->pcmem))
-		return -1;
-	if (spchol_precond(rc->ch, rc->hs->h, &rc->shift) != MESH_OK)
-		return -1;
+	}
 	rc->have = 1;
 	return 0;
 }
@@ -644,7 +763,12 @@ static int relax_pcapply(const double *r, double *z, void *data)
 	relax_ctx *rc = data;
 	if (!rc->have)
 		return -1;
-	spchol_solve(rc->ch, r, z);
+	if (rc->sw) {
+		if (pcschwarz_solve(rc->sw, r, z) != MESH_OK)
+			return -1;
+	} else {
+		spchol_solve(rc->ch, r, z);
+	}
 	int nv = rc->m->nv;
 	double mx = 0, my = 0;
 	for (int v = 0; v < nv; v++) {
@@ -678,7 +802,8 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 	if (m->nv == 0)
 		return MESH_OK;
 	relax_ctx rc = { .m = m, .p = p, .ew = energy_ws_alloc(m), .hw = hessian_ws_alloc(m),
-			 .pcmem = oo.pcmem };
+			 .pcmem = oo.pcmem, .kind = oo.pckind, .pcblock = oo.pcblock,
+			 .overlap = oo.pcoverlap };
 	if (oo.precond)
 		rc.hs = hessian_sparse_alloc(m);
 	double *x = malloc(2 * (size_t)m->nv * sizeof *x);
@@ -703,5 +828,6 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 	hessian_ws_free(rc.hw);
 	hessian_sparse_free(rc.hs);
 	spchol_free(rc.ch);
+	pcschwarz_free(rc.sw);
 	return st;
 }

@@ -14,6 +14,7 @@
 
 #include "geom.h"
 #include "mesh.h"
+#include "precond.h"
 
 typedef enum {
 	MIN_LBFGS,       /* NLopt L-BFGS (restarted while it makes progress) */
@@ -36,6 +37,20 @@ typedef void (*min_hessvec)(const double *x, const double *v, double *hv,
  * largest Euclidean norm of consecutive pairs (grad[2i], grad[2i+1]), the
  * largest vertex force when x holds vertex coordinates. */
 typedef double (*min_gnorm)(int n, const double *grad, void *data);
+
+/* mesh_relax's preconditioner.  MIN_PC_CHOLESKY: the complete sparse
+ * Cholesky factor of H + sI (sparse.h), whose memory grows faster than
+ * the tissue (1.01e9 entries of L, 8 GB, at 10^6 cells).  MIN_PC_SCHWARZ:
+ * two-level additive Schwarz (precond.h) on patches of pcblock vertices
+ * consecutive along a Hilbert curve of their positions, memory linear in
+ * the tissue.  MIN_PC_AUTO: Cholesky up to MIN_PC_FULL_NV vertices (and
+ * while its factor fits in pcmem), Schwarz above; chosen by measurement,
+ * bench/RESULTS.md. */
+typedef enum { MIN_PC_AUTO, MIN_PC_CHOLESKY, MIN_PC_SCHWARZ } min_pckind;
+#define MIN_PC_FULL_NV 400000
+#define MIN_PC_BLOCK 2048
+#define MIN_PC_OVERLAP 2
+#define MIN_PC_COARSE 6.0  /* coarse grid spacing, in cell lengths */
 
 typedef struct {
 	min_algo algo;
@@ -68,9 +83,16 @@ typedef struct {
 	                      sparse Cholesky preconditioner; 0: plain CG
 	                      (min_run uses pcsetup/pcapply only when set) */
 	double pcmem;      /* mesh_relax: bytes the numeric factorization may
-	                      take (default 4e9); a larger factor (10^6 cells:
-	                      8 GB, bench/RESULTS.md) is not built and CG goes
-	                      on unpreconditioned */
+	                      take (default 4e9); a larger complete factor
+	                      (10^6 cells: 8 GB, bench/RESULTS.md) is not built
+	                      and the Schwarz preconditioner is used instead
+	                      (CG goes on unpreconditioned if that too is
+	                      larger) */
+	min_pckind pckind; /* mesh_relax's preconditioner (default MIN_PC_AUTO) */
+	int pcblock;       /* MIN_PC_SCHWARZ: vertices per block (default
+	                      MIN_PC_BLOCK) */
+	int pcoverlap;     /* MIN_PC_SCHWARZ: layers of overlap (default
+	                      MIN_PC_OVERLAP) */
 } min_opts;
 
 typedef struct {
@@ -86,7 +108,8 @@ typedef struct {
 
 /* Defaults: MIN_NEWTON (fastest to every force level in bench/relax.sh,
  * see bench/RESULTS.md) with polish, ftol 1e-10, maxeval 100000, gnorm,
- * hessvec, pcsetup, pcapply and stop NULL, pcmaxit 6, precond 1, pcmem 4e9.  maxeval bounds objective evaluations plus Hessian-vector
+ * hessvec, pcsetup, pcapply and stop NULL, pcmaxit 6, precond 1, pcmem 4e9,
+ * pckind MIN_PC_AUTO, pcblock MIN_PC_BLOCK.  maxeval bounds objective evaluations plus Hessian-vector
  * products together. */
 void min_opts_init(min_opts *o);
 
@@ -106,12 +129,27 @@ int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
 /* Relax all vertex positions of m to the nearest minimum of W at p, with
  * the analytic Hessian for Newton steps (o->hessvec is ignored) and, unless
  * o->precond is 0, CG preconditioned by a shifted sparse Cholesky
- * factorization of the exact Hessian (o->pcsetup and pcapply are ignored).
+ * factorization of the exact Hessian or, above MIN_PC_FULL_NV vertices,
+ * by two-level Schwarz on factored patches (o->pckind; o->pcsetup and
+ * pcapply are ignored).
  * Never returns a worse point than the start: not a higher energy, and not
  * a higher max force at an energy equal to rounding (1e-13 (1 + |W|)).  The
  * topology is unchanged; coordinates are wrapped into the box at the end.
  * Status as min_run, and MESH_EINVAL (m unchanged) if the result would have
  * a cell of non-positive area. */
 int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep);
+
+/* The coarse level of mesh_relax's Schwarz preconditioner: the bilinear
+ * hat functions of a periodic grid over m's box, spacing about `spacing`
+ * cell lengths (sqrt of the mean cell area; at least 2 x 2 nodes), one
+ * element per grid square and component (nodes 2 g + c, c = 0 for x, 1
+ * for y), for the vertex positions x.  g owns the arrays co points to. */
+typedef struct {
+	pccoarse co;
+	int *node, *elem;
+	double *w;
+} mesh_pcgrid;
+int mesh_pcgrid_build(const mesh *m, const double *x, double spacing, mesh_pcgrid *g);
+void mesh_pcgrid_free(mesh_pcgrid *g);
 
 #endif

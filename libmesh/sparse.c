@@ -126,6 +126,14 @@ int spsym_find(const spsym *a, int i, int j)
 	return -1;
 }
 
+double spsym_diagmax(const spsym *a)
+{
+	double dmax = 0;
+	for (int j = 0; j < a->n; j++)
+		dmax = fmax(dmax, fabs(a->val[a->colp[j]]));
+	return dmax;
+}
+
 void spsym_mulvec(const spsym *a, const double *x, double *y)
 {
 	for (int i = 0; i < a->n; i++)
@@ -179,6 +187,7 @@ struct spchol {
 	long *amap;            /* position in bx of each entry of A */
 	float *yf, *acc;       /* n each: solve scratch */
 	int *head, *next, *pos, *rel;  /* left-looking update lists, row map */
+	int lean;              /* bx only during a factorization (spchol_lean) */
 };
 
 /* Above this many entries of L (between 4096 and 10^4 cells) CHOLMOD's
@@ -339,7 +348,7 @@ spchol *spchol_analyze(const spsym *a)
 double spchol_bytes(const spchol *c)
 {
 	/* the supernodal blocks whole, explicit zeros too */
-	return c->big ? 8 * (double)c->L->xsize : 12 * (double)c->bp[c->nsn];
+	return c->big ? 8 * (double)c->L->xsize : (c->lean ? 4 : 12) * (double)c->bp[c->nsn];
 }
 
 long spchol_nnz(const spchol *c)
@@ -372,6 +381,8 @@ static int factor_own(spchol *c, const spsym *a, double shift)
 {
 	const int nsn = c->nsn;
 	int *head = c->head, *next = c->next, *pos = c->pos, *rel = c->rel;
+	if (c->bx == NULL && (c->bx = calloc((size_t)c->bp[nsn] + 1, sizeof *c->bx)) == NULL)
+		return MESH_ENOMEM;
 	double *bx = c->bx;
 	memset(bx, 0, (size_t)c->bp[nsn] * sizeof *bx);
 	for (int p = 0; p < a->nnz; p++)
@@ -488,8 +499,22 @@ int spchol_factor(spchol *c, const spsym *a, double shift)
 	if (a->n != c->n || a->nnz != c->annz || !isfinite(shift))
 		return MESH_EDOM;
 	int st = c->big ? factor_cholmod(c, a, shift) : factor_own(c, a, shift);
+	if (c->lean && !c->big) {
+		free(c->bx);
+		c->bx = NULL;
+	}
 	c->ok = st == MESH_OK;
 	return st;
+}
+
+void spchol_lean(spchol *c)
+{
+	if (c->big)
+		return;
+	c->lean = 1;
+	free(c->bx);
+	c->bx = NULL;
+	cholmod_free_sparse(&c->A, &c->cm);
 }
 
 int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift)
@@ -511,9 +536,7 @@ int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift)
 
 int spchol_precond(spchol *c, const spsym *a, double *shift)
 {
-	double dmax = 0;
-	for (int j = 0; j < a->n; j++)
-		dmax = fmax(dmax, fabs(a->val[a->colp[j]]));
+	double dmax = spsym_diagmax(a);
 	if (!(dmax > 0) || !isfinite(dmax))
 		return MESH_EDOM;
 	double s = isfinite(*shift) ? *shift / 100 : 0;

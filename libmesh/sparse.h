@@ -32,6 +32,8 @@ void spsym_zero(spsym *a);
 /* Position of entry (i, j) (either order) in rowi/val, or -1 if it is not
  * in the pattern.  Binary search in one column. */
 int spsym_find(const spsym *a, int i, int j);
+/* The largest |diagonal entry| (fmax's: NaN entries are passed over). */
+double spsym_diagmax(const spsym *a);
 /* y = A x (the full symmetric matrix). */
 void spsym_mulvec(const spsym *a, const double *x, double *y);
 
@@ -50,8 +52,16 @@ spchol *spchol_analyze(const spsym *a);
 typedef enum { SPCHOL_AUTO, SPCHOL_OWN, SPCHOL_CHOLMOD } spchol_kind;
 spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind);
 void spchol_free(spchol *c);
+/* On the hand-written path (no effect on CHOLMOD's): keep only the
+ * single-precision factor between factorizations, allocating the
+ * double-precision working copy (8 bytes per entry of L) for each
+ * factorization and freeing it after, and drop the copy of the pattern
+ * the analysis needed.  For many small factors held at once (precond.h),
+ * factored one after another. */
+void spchol_lean(spchol *c);
 /* Bytes the numeric factorization holds (8 per entry of L on CHOLMOD's
- * path, 12 on the hand-written one), known from the analysis alone. */
+ * path, 12 on the hand-written one, 4 once lean), known from the
+ * analysis alone. */
 double spchol_bytes(const spchol *c);
 /* Nonzeros of L as CHOLMOD's analysis counts them (a measure of its cost:
  * a solve is ~4 flops per entry). */

@@ -3,7 +3,7 @@
 # keeps params and history, reports on stderr, refuses bad usage, and says
 # honestly when a tolerance cannot be reached (exit 3 only with --strict).
 . "$(dirname "$0")/lib.sh"
-plan 24
+plan 29
 
 tis-hex 6 6 >"$T/hex.mesh"
 # A perturbed copy: displacements up to 0.05 (awk, deterministic).
@@ -53,4 +53,15 @@ fails_with 2 "--ftol nan" tis-relax --ftol nan "$T/pert.mesh"
 fails_with 2 "--algo bogus" tis-relax --algo bogus "$T/pert.mesh"
 fails_with 2 "--maxeval 0" tis-relax --maxeval 0 "$T/pert.mesh"
 fails_with 1 "bad mesh" sh -c "echo 'tismesh 1' | tis-relax"
+fails_with 2 "--precond bogus" tis-relax --precond bogus "$T/pert.mesh"
+fails_with 2 "--block 1" tis-relax --block 1 "$T/pert.mesh"
+
+# The Schwarz preconditioner (patches of 16 vertices, so several) reaches
+# the same minimum as the complete factor.
+ok "--precond schwarz relaxes the perturbed honeycomb" sh -c \
+	"tis-relax --precond schwarz --block 16 --overlap 1 --p0 3.6 '$T/pert.mesh' >'$T/rs.mesh' 2>/dev/null"
+f=$(tis-info "$T/rs.mesh" | awk '$1 == "max_force" { print $2 }')
+e=$(tis-info "$T/rs.mesh" | awk '$1 == "energy" { print $2 }')
+ok "schwarz: max force $f < 1e-10" near "$f" 0 1e-10
+ok "schwarz: energy $e = NC (p_hex - p0)^2" near "$e" 0.539514662779 1e-9
 done_testing

@@ -12,7 +12,8 @@
 
 static const char usage[] =
 	"[--p0 X] [--ka Y] [--ftol F] [--maxeval N] [--algo NAME] [--no-polish]\n"
-	"       [--no-precond] [--accept] [-q] [MESH]";
+	"       [--no-precond] [--precond KIND] [--block N]\n"
+	"       [--overlap L] [--accept] [-q] [MESH]";
 static const char help[] =
 	"Minimize the vertex-model energy W over all vertex positions at fixed\n"
 	"topology and write the relaxed mesh to stdout.  Every mesh of the input\n"
@@ -30,6 +31,11 @@ static const char help[] =
 	"  --no-polish   do not finish with Newton-CG when the method stalls\n"
 	"  --no-precond  plain CG in Newton-CG (default: preconditioned by a\n"
 	"                sparse Cholesky factorization of the Hessian)\n"
+	"  --precond KIND  auto (default: cholesky up to 400000 vertices, schwarz\n"
+	"                above), cholesky (complete sparse factor), schwarz\n"
+	"                (two-level Schwarz on Hilbert patches, memory linear)\n"
+	"  --block N     schwarz: vertices per patch (default 2048)\n"
+	"  --overlap L   schwarz: layers of overlap between patches (default 2)\n"
 	"  --accept      exit 0 also when the force tolerance was missed\n"
 	"  --strict      exit 3 when it was missed (the default; for old scripts)\n"
 	"  -q, --quiet   no report (a missed tolerance is still reported)\n"
@@ -53,6 +59,9 @@ static struct opts parse(int argc, char **argv)
 		{ "algo", required_argument, NULL, 'a' },
 		{ "no-polish", no_argument, NULL, 'P' },
 		{ "no-precond", no_argument, NULL, 'C' },
+		{ "precond", required_argument, NULL, 'K' },
+		{ "block", required_argument, NULL, 'b' },
+		{ "overlap", required_argument, NULL, 'O' },
 		{ "strict", no_argument, NULL, 's' },
 		{ "accept", no_argument, NULL, 'A' },
 		{ "quiet", no_argument, NULL, 'q' },
@@ -76,6 +85,19 @@ static struct opts parse(int argc, char **argv)
 			break;
 		case 'P': o.mo.polish = 0; break;
 		case 'C': o.mo.precond = 0; break;
+		case 'K':
+			if (strcmp(optarg, "auto") == 0)
+				o.mo.pckind = MIN_PC_AUTO;
+			else if (strcmp(optarg, "cholesky") == 0)
+				o.mo.pckind = MIN_PC_CHOLESKY;
+			else if (strcmp(optarg, "schwarz") == 0)
+				o.mo.pckind = MIN_PC_SCHWARZ;
+			else
+				cli_usage_error("--precond: unknown kind '%s' (auto, cholesky, "
+				                "schwarz)", optarg);
+			break;
+		case 'O': o.mo.pcoverlap = (int)cli_long("--overlap", optarg, 0, 1000); break;
+		case 'b': o.mo.pcblock = (int)cli_long("--block", optarg, 2, 100000000); break;
 		case 's': o.strict = 1; break;
 		case 'A': o.accept = 1; break;
 		case 'q': o.quiet = 1; break;

@@ -1,0 +1,469 @@
+/* precond.c - two-level additive Schwarz on the sparse Cholesky of
+ * sparse.c: see precond.h. */
+#include "precond.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mesh.h"
+
+struct pcschwarz {
+	int n, nblock;
+	int *part;            /* n: block of each variable */
+	int *bstart;          /* nblock + 1: offsets into vars */
+	int *vars;            /* n: the variables of each block, ascending */
+	spsym **ba;           /* nblock: the diagonal blocks' patterns/values */
+	spchol **bc;          /* nblock: their factors */
+	int **src;            /* nblock: position in a->val of each block entry */
+	spsym *ca;            /* coarse matrix (NULL without a coarse level) */
+	spchol *cc;
+	int k;                /* coarse nodes per element */
+	int *elem, *node;     /* pccoarse's, copied */
+	double *w;
+	int *epair;           /* a->nnz: element pair of each entry of a */
+	int *epos;            /* k * k per element pair: positions in ca->val */
+	double *wb, *wc, *wx; /* scratch: largest block, coarse vector, n */
+	int annz;
+	int ok;               /* every factor usable */
+};
+
+void pcschwarz_free(pcschwarz *s)
+{
+	if (s == NULL)
+		return;
+	for (int b = 0; b < s->nblock; b++) {
+		if (s->ba)
+			spsym_free(s->ba[b]);
+		if (s->bc)
+			spchol_free(s->bc[b]);
+		if (s->src)
+			free(s->src[b]);
+	}
+	free(s->ba);
+	free(s->bc);
+	free(s->src);
+	spsym_free(s->ca);
+	spchol_free(s->cc);
+	free(s->elem);
+	free(s->node);
+	free(s->w);
+	free(s->epair);
+	free(s->epos);
+	free(s->part);
+	free(s->bstart);
+	free(s->vars);
+	free(s->wb);
+	free(s->wc);
+	free(s->wx);
+	free(s);
+}
+
+/* Block b's pattern (the entries of a with both ends in b, in local
+ * numbers), its factor's analysis and its map into a.  loc: local number
+ * of each variable of b (valid where mark == b); ij: scratch for 2 *
+ * (entries of a in b's columns). */
+static int block_setup(pcschwarz *s, const spsym *a, int b, int *loc, int *mark, int *ij)
+{
+	const int *v = s->vars + s->bstart[b];
+	int nb = s->bstart[b + 1] - s->bstart[b], np = 0;
+	for (int k = 0; k < nb; k++) {
+		mark[v[k]] = b;
+		loc[v[k]] = k;
+	}
+	for (int lj = 0; lj < nb; lj++)
+		for (int p = a->colp[v[lj]]; p < a->colp[v[lj] + 1]; p++)
+			if (mark[a->rowi[p]] == b) {
+				ij[2 * np] = loc[a->rowi[p]];
+				ij[2 * np + 1] = lj;
+				np++;
+			}
+	s->ba[b] = spsym_alloc(nb, np, ij);
+	if (s->ba[b] == NULL)
+		return -1;
+	const spsym *bb = s->ba[b];
+	s->src[b] = malloc(((size_t)bb->nnz + 1) * sizeof **s->src);
+	if (s->src[b] == NULL)
+		return -1;
+	for (int lj = 0; lj < nb; lj++)
+		for (int p = bb->colp[lj]; p < bb->colp[lj + 1]; p++)
+			if ((s->src[b][p] = spsym_find(a, v[bb->rowi[p]], v[lj])) < 0)
+				return -1;  /* cannot happen: the pattern came from a */
+	s->bc[b] = spchol_analyze(bb);
+	if (s->bc[b] == NULL)
+		return -1;
+	spchol_lean(s->bc[b]);
+	return 0;
+}
+
+/* The coarse level: element pairs that a couples, the coarse pattern,
+ * and for each element pair the positions of its k x k node pairs. */
+static int coarse_setup(pcschwarz *s, const spsym *a, const pccoarse *co)
+{
+	const int n = a->n, k = co->k, ne = co->nelem;
+	int *es = calloc((size_t)ne + 1, sizeof *es), *ev = malloc(((size_t)n + 1) * sizeof *ev);
+	int *mark = malloc(((size_t)ne + 1) * sizeof *mark), *slot = malloc(((size_t)ne + 1) * sizeof *slot);
+	size_t cap = 16 * (size_t)ne + 16, np = 0;
+	int *pr = malloc(2 * cap * sizeof *pr), *ij = NULL;
+	int st = -1;
+	s->epair = malloc(((size_t)a->nnz + 1) * sizeof *s->epair);
+	if (!es || !ev || !mark || !slot || !pr || !s->epair)
+		goto out;
+	for (int i = 0; i < n; i++) {
+		if (co->elem[i] < 0 || co->elem[i] >= ne)
+			goto out;
+		es[co->elem[i] + 1]++;
+	}
+	for (int e = 0; e < ne; e++)
+		es[e + 1] += es[e];
+	for (int i = 0; i < n; i++)
+		ev[es[co->elem[i]]++] = i;
+	for (int e = ne; e > 0; e--)
+		es[e] = es[e - 1];
+	es[0] = 0;
+	for (int e = 0; e < ne; e++) {
+		mark[e] = -1;
+		for (int q = 0; q < k; q++)
+			if (co->node[(size_t)e * k + q] < 0 || co->node[(size_t)e * k + q] >= co->nnode)
+				goto out;
+	}
+	for (int e = 0; e < ne; e++)
+		for (int t = es[e]; t < es[e + 1]; t++) {
+			int j = ev[t];
+			for (int p = a->colp[j]; p < a->colp[j + 1]; p++) {
+				int f = co->elem[a->rowi[p]];
+				if (mark[f] != e) {
+					mark[f] = e;
+					if (np == cap) {
+						int *u = realloc(pr, 4 * cap * sizeof *pr);
+						if (u == NULL)
+							goto out;
+						pr = u;
+						cap *= 2;
+					}
+					pr[2 * np] = f;
+					pr[2 * np + 1] = e;
+					slot[f] = (int)np++;
+				}
+				s->epair[p] = slot[f];
+			}
+		}
+	size_t kk = (size_t)k * k;
+	if (np * kk > (size_t)1 << 30)
+		goto out;
+	ij = malloc(2 * np * kk * sizeof *ij);
+	s->epos = malloc((np * kk + 1) * sizeof *s->epos);
+	if (ij == NULL || s->epos == NULL)
+		goto out;
+	for (size_t q = 0; q < np; q++)
+		for (int u = 0; u < k; u++)
+			for (int v = 0; v < k; v++) {
+				size_t at = q * kk + (size_t)u * k + v;
+				ij[2 * at] = co->node[(size_t)pr[2 * q] * k + u];
+				ij[2 * at + 1] = co->node[(size_t)pr[2 * q + 1] * k + v];
+			}
+	s->ca = spsym_alloc(co->nnode, (int)(np * kk), ij);
+	if (s->ca == NULL)
+		goto out;
+	for (size_t at = 0; at < np * kk; at++)
+		if ((s->epos[at] = spsym_find(s->ca, ij[2 * at], ij[2 * at + 1])) < 0)
+			goto out;
+	s->k = k;
+	s->elem = malloc(((size_t)n + 1) * sizeof *s->elem);
+	s->node = malloc(((size_t)ne * k + 1) * sizeof *s->node);
+	s->w = malloc(((size_t)n * k + 1) * sizeof *s->w);
+	s->wc = malloc(((size_t)co->nnode + 1) * sizeof *s->wc);
+	if (!s->elem || !s->node || !s->w || !s->wc)
+		goto out;
+	memcpy(s->elem, co->elem, (size_t)n * sizeof *s->elem);
+	memcpy(s->node, co->node, (size_t)ne * k * sizeof *s->node);
+	memcpy(s->w, co->w, (size_t)n * k * sizeof *s->w);
+	s->cc = spchol_analyze(s->ca);
+	st = s->cc ? 0 : -1;
+out:
+	free(es);
+	free(ev);
+	free(mark);
+	free(slot);
+	free(pr);
+	free(ij);
+	return st;
+}
+
+static int cmp_int(const void *x, const void *y)
+{
+	int a = *(const int *)x, b = *(const int *)y;
+	return (a > b) - (a < b);
+}
+
+/* Appends v to the growing array *a (*len used of *cap). */
+static int push(int **a, size_t *cap, size_t *len, int v)
+{
+	if (*len == *cap) {
+		int *t = realloc(*a, 2 * *cap * sizeof *t);
+		if (t == NULL)
+			return -1;
+		*a = t;
+		*cap *= 2;
+	}
+	(*a)[(*len)++] = v;
+	return 0;
+}
+
+/* Each block's variables: its own (part) and overlap layers of a's graph
+ * around them, ascending, into s->bstart/vars.  adj: a's graph, both
+ * triangles, as CSR. */
+static int grow_blocks(pcschwarz *s, const spsym *a, const int *part, int overlap, int *mark)
+{
+	const int n = a->n, nb = s->nblock;
+	int *ap = calloc((size_t)n + 1, sizeof *ap), *aj = NULL, *own = NULL, *ostart = NULL;
+	size_t cap = (size_t)n + 16, len = 0;
+	int st = -1;
+	s->bstart = calloc((size_t)nb + 1, sizeof *s->bstart);
+	s->vars = malloc(cap * sizeof *s->vars);
+	ostart = calloc((size_t)nb + 1, sizeof *ostart);
+	own = malloc(((size_t)n + 1) * sizeof *own);
+	if (!ap || !s->bstart || !s->vars || !ostart || !own)
+		goto out;
+	for (int i = 0; i < n; i++)
+		ostart[part[i] + 1]++;
+	for (int b = 0; b < nb; b++) {
+		if (ostart[b + 1] == 0)
+			goto out;  /* an empty block */
+		ostart[b + 1] += ostart[b];
+	}
+	for (int i = 0; i < n; i++)
+		own[ostart[part[i]]++] = i;
+	for (int b = nb; b > 0; b--)
+		ostart[b] = ostart[b - 1];
+	ostart[0] = 0;
+	if (overlap > 0) {
+		for (int j = 0; j < n; j++)
+			for (int p = a->colp[j]; p < a->colp[j + 1]; p++)
+				if (a->rowi[p] != j) {
+					ap[a->rowi[p] + 1]++;
+					ap[j + 1]++;
+				}
+		for (int i = 0; i < n; i++)
+			ap[i + 1] += ap[i];
+		aj = malloc(((size_t)ap[n] + 1) * sizeof *aj);
+		if (aj == NULL)
+			goto out;
+		for (int j = 0; j < n; j++)
+			for (int p = a->colp[j]; p < a->colp[j + 1]; p++)
+				if (a->rowi[p] != j) {
+					aj[ap[a->rowi[p]]++] = j;
+					aj[ap[j]++] = a->rowi[p];
+				}
+		for (int i = n; i > 0; i--)
+			ap[i] = ap[i - 1];
+		ap[0] = 0;
+	}
+	for (int i = 0; i < n; i++)
+		mark[i] = -1;
+	for (int b = 0; b < nb; b++) {
+		size_t first = len, layer = len;
+		for (int k = ostart[b]; k < ostart[b + 1]; k++) {
+			if (push(&s->vars, &cap, &len, own[k]) != 0)
+				goto out;
+			mark[own[k]] = b;
+		}
+		for (int l = 0; l < overlap; l++) {
+			size_t end = len;
+			for (size_t k = layer; k < end; k++) {
+				int i = s->vars[k];
+				for (int p = ap[i]; p < ap[i + 1]; p++) {
+					int j = aj[p];
+					if (mark[j] == b)
+						continue;
+					mark[j] = b;
+					if (push(&s->vars, &cap, &len, j) != 0)
+						goto out;
+				}
+			}
+			layer = end;
+		}
+		qsort(s->vars + first, len - first, sizeof *s->vars, cmp_int);
+		if (len > (size_t)1 << 31)
+			goto out;
+		s->bstart[b + 1] = (int)len;
+	}
+	st = 0;
+out:
+	free(ap);
+	free(aj);
+	free(own);
+	free(ostart);
+	return st;
+}
+
+pcschwarz *pcschwarz_alloc(const spsym *a, const int *part, int nblock, int overlap,
+			   const pccoarse *co)
+{
+	const int n = a->n;
+	if (nblock < 1 || nblock > n || overlap < 0 ||
+	    (co && (co->k < 1 || co->k > 16 || co->nelem < 1 || co->nnode < 1)))
+		return NULL;
+	pcschwarz *s = calloc(1, sizeof *s);
+	if (s == NULL)
+		return NULL;
+	s->n = n;
+	s->nblock = nblock;
+	s->annz = a->nnz;
+	s->part = malloc(((size_t)n + 1) * sizeof *s->part);
+	s->ba = calloc((size_t)nblock, sizeof *s->ba);
+	s->bc = calloc((size_t)nblock, sizeof *s->bc);
+	s->src = calloc((size_t)nblock, sizeof *s->src);
+	int *loc = malloc(((size_t)n + 1) * sizeof *loc), *ij = NULL;
+	int *mark = malloc(((size_t)n + 1) * sizeof *mark);
+	if (!s->part || !s->ba || !s->bc || !s->src || !loc || !mark)
+		goto fail;
+	for (int i = 0; i < n; i++) {
+		if (part[i] < 0 || part[i] >= nblock)
+			goto fail;
+		s->part[i] = part[i];
+	}
+	if (grow_blocks(s, a, part, overlap, mark) != 0)
+		goto fail;
+	/* scratch for the largest block and its pairs: at most all of a's
+	 * entries in its columns */
+	size_t most = 0;
+	int big = 0;
+	for (int b = 0; b < nblock; b++) {
+		size_t e = 0;
+		for (int k = s->bstart[b]; k < s->bstart[b + 1]; k++)
+			e += a->colp[s->vars[k] + 1] - a->colp[s->vars[k]];
+		most = e > most ? e : most;
+		big = s->bstart[b + 1] - s->bstart[b] > big ? s->bstart[b + 1] - s->bstart[b] : big;
+	}
+	s->wb = malloc(((size_t)big + 1) * sizeof *s->wb);
+	s->wx = malloc(((size_t)n + 1) * sizeof *s->wx);
+	ij = malloc((2 * most + 2) * sizeof *ij);
+	if (s->wb == NULL || s->wx == NULL || ij == NULL)
+		goto fail;
+	for (int i = 0; i < n; i++)
+		mark[i] = -1;
+	for (int b = 0; b < nblock; b++)
+		if (block_setup(s, a, b, loc, mark, ij) != 0)
+			goto fail;
+	if (co && coarse_setup(s, a, co) != 0)
+		goto fail;
+	free(loc);
+	free(mark);
+	free(ij);
+	return s;
+fail:
+	free(loc);
+	free(mark);
+	free(ij);
+	pcschwarz_free(s);
+	return NULL;
+}
+
+double pcschwarz_bytes(const pcschwarz *s)
+{
+	double t = s->cc ? spchol_bytes(s->cc) : 0;
+	for (int b = 0; b < s->nblock; b++)
+		t += spchol_bytes(s->bc[b]);
+	return t;
+}
+
+int pcschwarz_factor(pcschwarz *s, const spsym *a, double shift)
+{
+	s->ok = 0;
+	if (a->n != s->n || a->nnz != s->annz || !isfinite(shift))
+		return MESH_EDOM;
+	for (int b = 0; b < s->nblock; b++) {
+		spsym *bb = s->ba[b];
+		for (int p = 0; p < bb->nnz; p++)
+			bb->val[p] = a->val[s->src[b][p]];
+		int st = spchol_factor(s->bc[b], bb, shift);
+		if (st != MESH_OK)
+			return st;
+	}
+	if (s->ca) {
+		/* A_0 = P^T (A + shift I) P from the lower triangle of A: an
+		 * entry off A's diagonal stands for itself and its mirror, so
+		 * it adds to both (u, v) and (v, u) of the lower A_0 (twice to
+		 * a diagonal one); a diagonal entry once per unordered pair */
+		const int k = s->k;
+		spsym_zero(s->ca);
+		for (int j = 0; j < a->n; j++)
+			for (int p = a->colp[j]; p < a->colp[j + 1]; p++) {
+				int i = a->rowi[p];
+				double v = a->val[p] + (i == j ? shift : 0);
+				const int *ni = s->node + (size_t)s->elem[i] * k;
+				const int *nj = s->node + (size_t)s->elem[j] * k;
+				const double *wi = s->w + (size_t)i * k, *wj = s->w + (size_t)j * k;
+				const int *pos = s->epos + (size_t)s->epair[p] * k * k;
+				for (int u = 0; u < k; u++)
+					for (int t = 0; t < k; t++) {
+						double c = wi[u] * wj[t] * v;
+						if (i == j ? ni[u] < nj[t] : ni[u] == nj[t])
+							c = i == j ? 0 : 2 * c;
+						s->ca->val[pos[u * k + t]] += c;
+					}
+			}
+		int st = spchol_factor(s->cc, s->ca, 0);
+		if (st != MESH_OK)
+			return st;
+	}
+	s->ok = 1;
+	return MESH_OK;
+}
+
+int pcschwarz_precond(pcschwarz *s, const spsym *a, double *shift)
+{
+	double dmax = spsym_diagmax(a);
+	if (!(dmax > 0) || !isfinite(dmax))
+		return MESH_EDOM;
+	double sh = 1e-9 * dmax;
+	if (isfinite(*shift) && *shift / 100 > sh)
+		sh = *shift / 100;
+	for (int t = 0; t < 30; t++, sh *= 10) {
+		int st = pcschwarz_factor(s, a, sh);
+		if (st == MESH_OK) {
+			*shift = sh;
+			return MESH_OK;
+		}
+		if (st == MESH_ENOMEM)
+			return st;
+	}
+	return MESH_EDOM;
+}
+
+int pcschwarz_solve(pcschwarz *s, const double *b, double *x)
+{
+	if (!s->ok)
+		return MESH_EDOM;
+	if (s->ca) {
+		const int k = s->k;
+		memset(s->wc, 0, (size_t)s->ca->n * sizeof *s->wc);
+		for (int i = 0; i < s->n; i++)
+			for (int u = 0; u < k; u++)
+				s->wc[s->node[(size_t)s->elem[i] * k + u]] += s->w[(size_t)i * k + u] * b[i];
+		int st = spchol_solve_status(s->cc, s->wc, s->wc);
+		if (st != MESH_OK)
+			return st;
+	}
+	/* blocks overlap: sum into wx, since x may alias b */
+	memset(s->wx, 0, (size_t)s->n * sizeof *s->wx);
+	for (int k = 0; k < s->nblock; k++) {
+		const int *v = s->vars + s->bstart[k];
+		int nb = s->bstart[k + 1] - s->bstart[k];
+		for (int i = 0; i < nb; i++)
+			s->wb[i] = b[v[i]];
+		int st = spchol_solve_status(s->bc[k], s->wb, s->wb);
+		if (st != MESH_OK)
+			return st;
+		for (int i = 0; i < nb; i++)
+			s->wx[v[i]] += s->wb[i];
+	}
+	for (int i = 0; i < s->n; i++) {
+		double c = 0;
+		for (int u = 0; s->ca && u < s->k; u++)
+			c += s->w[(size_t)i * s->k + u] * s->wc[s->node[(size_t)s->elem[i] * s->k + u]];
+		x[i] = s->wx[i] + c;
+	}
+	return MESH_OK;
+}
