@@ -78,6 +78,12 @@ struct fl_work {
 	 * to (hx) and recomputed only when x changes. */
 	double *hr, *hg, *hvr, *hhr, *hx;
 	int hvalid;
+	/* The last evaluation of the objective (x, its gradient gx and W;
+	 * w->r and w->g hold r and grad W there): min_run evaluates its start
+	 * twice, solve_point the returned point once more and fl_hessvec needs
+	 * grad_b W at the point just evaluated, all the same x. */
+	double *ex, *egx, eW;
+	int evalid;
 	/* The preconditioner, built at one point of the sweep and kept for the
 	 * following ones while CG stays fast with it (min_opts.pcmaxit): the
 	 * sparse Hessian of W (hs), the Hessian in x (hx, pattern of this
@@ -114,6 +120,8 @@ fl_work *fl_work_alloc(const mesh *m)
 	w->hvr = malloc(nr * sizeof *w->hvr);
 	w->hhr = malloc(nr * sizeof *w->hhr);
 	w->hx = malloc(nx * sizeof *w->hx);
+	w->ex = malloc(nx * sizeof *w->ex);
+	w->egx = malloc(nx * sizeof *w->egx);
 	w->r = malloc(nr * sizeof *w->r);
 	w->g = malloc(nr * sizeof *w->g);
 	w->x = malloc(nx * sizeof *w->x);
@@ -126,7 +134,7 @@ fl_work *fl_work_alloc(const mesh *m)
 	w->xtry = malloc(nx * sizeof *w->xtry);
 	if (!w->ws || !w->r || !w->g || !w->x || nohist || !w->xrest || !w->xtry ||
 	    !w->hws || !w->hr || !w->hg || !w->hvr || !w->hhr || !w->hx || !w->pr ||
-	    !w->pg) {
+	    !w->pg || !w->ex || !w->egx) {
 		fl_work_free(w);
 		return NULL;
 	}
@@ -144,6 +152,8 @@ void fl_work_free(fl_work *w)
 	free(w->hvr);
 	free(w->hhr);
 	free(w->hx);
+	free(w->ex);
+	free(w->egx);
 	free(w->r);
 	free(w->g);
 	free(w->x);
@@ -188,6 +198,10 @@ static double fl_objective(const double *x, double *gx, void *data)
 	const fl_ctx *c = data;
 	fl_work *w = c->w;
 	int n = w->n, b = c->b;
+	if (w->evalid && memcmp(x, w->ex, (size_t)n * sizeof *x) == 0) {
+		memcpy(gx, w->egx, (size_t)n * sizeof *gx);
+		return w->eW;
+	}
 	double t = x[n - 1] / c->l;
 	x_to_r(c, x, t, w->r);
 	double W = mesh_energy(c->m, w->r, c->p, w->g, w->ws);
@@ -198,6 +212,10 @@ static double fl_objective(const double *x, double *gx, void *data)
 	gx[ia] += g[2 * b];
 	gx[ia + 1] += g[2 * b + 1];
 	gx[n - 1] = -g[2 * b] * sin(t) + g[2 * b + 1] * cos(t);
+	memcpy(w->ex, x, (size_t)n * sizeof *x);
+	memcpy(w->egx, gx, (size_t)n * sizeof *gx);
+	w->eW = W;
+	w->evalid = 1;
 	return W;
 }
 
@@ -212,8 +230,14 @@ static void fl_hessvec(const double *x, const double *v, double *hv, void *data)
 	int n = w->n, a = c->a, b = c->b, nv = w->nv;
 	double t = x[n - 1] / c->l, ct = cos(t), st = sin(t);
 	if (!w->hvalid || memcmp(x, w->hx, (size_t)n * sizeof *x) != 0) {
-		x_to_r(c, x, t, w->hr);
-		mesh_energy(c->m, w->hr, c->p, w->hg, w->ws);
+		if (w->evalid && memcmp(x, w->ex, (size_t)n * sizeof *x) == 0) {
+			memcpy(w->hr, w->r, 2 * (size_t)nv * sizeof *w->hr);
+			memcpy(w->hg, w->g, 2 * (size_t)nv * sizeof *w->hg);
+		} else {
+			x_to_r(c, x, t, w->hr);
+			mesh_energy(c->m, w->hr, c->p, w->hg, w->ws);
+		}
+		mesh_hessvec_prepare(c->m, w->hr, c->p, w->hws);
 		memcpy(w->hx, x, (size_t)n * sizeof *x);
 		w->hvalid = 1;
 	}
@@ -223,7 +247,7 @@ static void fl_hessvec(const double *x, const double *v, double *hv, void *data)
 	memcpy(vr + 2 * b + 2, v + 2 * b, 2 * (size_t)(nv - b - 1) * sizeof *vr);
 	vr[2 * b] = v[ia] - st * v[n - 1];
 	vr[2 * b + 1] = v[ia + 1] + ct * v[n - 1];
-	mesh_hessvec(c->m, w->hr, c->p, vr, hr, w->hws);
+	mesh_hessvec_prepared(c->m, c->p, vr, hr, w->hws);
 	memcpy(hv, hr, 2 * (size_t)b * sizeof *hv);
 	memcpy(hv + 2 * b, hr + 2 * b + 2, 2 * (size_t)(nv - b - 1) * sizeof *hv);
 	hv[ia] += hr[2 * b];
@@ -412,6 +436,7 @@ static int solve_point(fl_ctx *c, const fl_opts *o, int dir, fl_point *pt)
 		mo.pcapply = fl_pcapply;
 	}
 	w->hvalid = 0;
+	w->evalid = 0;  /* the objective depends on c->l */
 	min_report rep;
 	w->x[n - 1] *= c->l;
 	int st = min_run(n, w->x, fl_objective, c, &mo, &rep);
