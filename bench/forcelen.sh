@@ -5,7 +5,7 @@
 # the 324-cell honeycomb at p0 3.60 and 3.70 and on an irregular 324-cell
 # tissue at p0 3.60; then a batch of random junctions on two threads.
 # FL_ALL=1 also times all 972 junctions of the irregular tissue (2
-# threads, about two minutes).  Results: bench/RESULTS.md.
+# threads, about one and a half minutes of CPU).  Results: bench/RESULTS.md.
 set -eu
 top=$(cd "$(dirname "$0")/.." && pwd)
 T=$(mktemp -d "${TMPDIR:-/tmp}/tis-bench.XXXXXX")

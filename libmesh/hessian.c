@@ -47,13 +47,26 @@ void hessian_ws_free(hessian_ws *w)
 void mesh_hessvec(const mesh *m, const double *r, const model *p,
                   const double *v, double *hv, hessian_ws *w)
 {
+	mesh_hessvec_prepare(m, r, p, w);
+	mesh_hessvec_prepared(m, p, v, hv, w);
+}
+
+void mesh_hessvec_prepare(const mesh *m, const double *r, const model *p,
+                          hessian_ws *w)
+{
+	mesh_junction_vectors(m, r, w->jd);
+	mesh_cell_factors(m, r, p, w->jd, w->cc);
+}
+
+void mesh_hessvec_prepared(const mesh *m, const model *p, const double *v,
+                           double *hv, hessian_ws *w)
+{
 	const int nj = m->nj, nc = m->nc;
 	const int *jv = m->jv, *jc = m->jc;
 	const double ka = p->ka;
-	double *jd = w->jd, *cc = w->cc, *dc = w->dc;
+	const double *jd = w->jd, *cc = w->cc;
+	double *dc = w->dc;
 
-	mesh_junction_vectors(m, r, jd);
-	mesh_cell_factors(m, r, p, jd, cc);
 	for (int k = 0; k < nc; k++)
 		dc[2 * k] = dc[2 * k + 1] = 0;
 	for (int j = 0; j < nj; j++) {

@@ -22,6 +22,15 @@ void hessian_ws_free(hessian_ws *w);
 void mesh_hessvec(const mesh *m, const double *r, const model *p,
                   const double *v, double *hv, hessian_ws *w);
 
+/* mesh_hessvec in two parts, for many products at one r (the CG of a
+ * Newton step): the junction vectors and cell factors at r, kept in w,
+ * then products at that r, the same bytes as mesh_hessvec's, until the
+ * next prepare.  No allocation. */
+void mesh_hessvec_prepare(const mesh *m, const double *r, const model *p,
+                          hessian_ws *w);
+void mesh_hessvec_prepared(const mesh *m, const model *p, const double *v,
+                           double *hv, hessian_ws *w);
+
 /* The dense Hessian at r into h (row-major, (2 nv)^2 values), exactly
  * symmetric.  MESH_ENOMEM. */
 int mesh_hessian(const mesh *m, const double *r, const model *p, double *h);

@@ -3,7 +3,7 @@
 # against the exact linear response, threads do not change the bytes,
 # several meshes in one stream, the return legs, usage and input errors.
 . "$(dirname "$0")/lib.sh"
-plan 35
+plan 38
 
 tis-hex 6 6 --p0 3.6 >"$T/h.mesh"
 tis-forcelen --index 0 --range 0.02 "$T/h.mesh" >"$T/c.tsv"
@@ -58,6 +58,14 @@ ok "--summary: one row per p0" test "$(tis-fit --summary --degree 3 --window 0.0
 ok "--cusps: only the trivial zero at l0 on a stable junction" \
 	test "$(tis-fit --cusps "$T/c.tsv" | rows | awk '{ print $9 }' | tr -d '\n')" = 1
 ok "--branch back fits the return legs" sh -c "tis-fit --degree 2 --window 0.02 --branch back '$T/c.tsv' | grep -v '^#' | awk 'NR == 2 { exit !(\$6 == 9) }'"
+# No point silently unconverged: a budget too small for the tolerance.
+fails_with 3 "points that missed the tolerance: exit 3, one line on stderr" \
+	tis-forcelen --index 0 --range 0.02 --maxeval 2 "$T/h.mesh"
+nbad=$(rows "$T/out" | awk -F'\t' '$10 > 1e-10' | wc -l)
+ok "the count on stderr ($(cat "$T/err")) is the rows whose fres exceeds the tolerance" \
+	grep -q ": $nbad of 17 points missed the force tolerance 1e-10 (worst " "$T/err"
+ok "and the curve is written whole, the misses in its fres column" \
+	test "$(rows "$T/out" | wc -l)" = 17 -a "$nbad" -gt 0
 ok "--help to stdout" sh -c "tis-forcelen --help | grep -q '^usage: tis-forcelen' && tis-fit --help | grep -q '^usage: tis-fit'"
 
 fails_with 2 "--linear with a sweep option" tis-forcelen --index 0 --linear --no-back "$T/h.mesh"
