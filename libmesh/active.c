@@ -3,6 +3,7 @@
 #include "active_int.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,7 +13,7 @@ void act_opts_init(act_opts *o)
 {
 	*o = (act_opts){ .scheme = ACT_BDF, .tau = 1, .gamma0 = 0, .sigma = 0,
 			 .rtol = 1e-9, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
-			 .t1_new = 1e-3, .l_collapse = 1e-3,
+			 .t1_new = 1e-3, .t1_again = ACT_T1_AGAIN, .l_collapse = 1e-3,
 			 .checkpoint = ACT_BDF_CHECKPOINT };
 }
 
@@ -25,6 +26,22 @@ const char *act_end_name(act_end e)
 	case ACT_END_NONFINITE: return "nonfinite";
 	}
 	return "?";
+}
+
+const char *act_scheme_name(act_scheme s)
+{
+	return s == ACT_BDF ? "bdf" : s == ACT_SPLIT ? "split" : "euler";
+}
+
+int act_scheme_parse(const char *name, act_scheme *s)
+{
+	static const act_scheme all[] = { ACT_EULER, ACT_BDF, ACT_SPLIT };
+	for (size_t k = 0; k < sizeof all / sizeof all[0]; k++)
+		if (strcmp(name, act_scheme_name(all[k])) == 0) {
+			*s = all[k];
+			return MESH_OK;
+		}
+	return MESH_EINVAL;
 }
 
 double act_jvec(const mesh *m, const double *r, int j, double d[2])
@@ -48,6 +65,8 @@ static int check_opts(const act_opts *o, mesh_error *err)
 	if (!(o->t1_length >= 0 && isfinite(o->t1_length)) ||
 	    (o->t1_length > 0 && !(o->t1_new > 0 && o->t1_new < o->t1_length)))
 		return mesh_error_set(err, 0, MESH_EDOM, "bad T1 lengths (0 < new < threshold)");
+	if (!(o->t1_again >= 0 && o->t1_again < 1) || (o->scheme == ACT_BDF && !(o->t1_again > 0)))
+		return mesh_error_set(err, 0, MESH_EDOM, "t1_again must be in (0, 1) (euler: [0, 1))");
 	if (o->scheme == ACT_BDF) {
 		if (o->sigma > 0)
 			return mesh_error_set(err, 0, MESH_EDOM, "the bdf scheme has no noise; use euler for sigma > 0");
@@ -89,6 +108,8 @@ static int euler_dyn(act *a, mesh_error *err)
 	d.dr_max = o->dr_max;
 	d.t1_length = o->t1_length;
 	d.t1_new = o->t1_new;
+	d.t1_again = o->t1_again;
+	d.split = o->scheme == ACT_SPLIT;
 	d.tau = o->tau;
 	d.sigma = o->sigma;
 	d.gamma0 = o->gamma0;
@@ -142,7 +163,7 @@ int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *a
 		else
 			m->dg[j] = 0;
 	}
-	if (o->scheme == ACT_EULER) {
+	if (o->scheme != ACT_BDF) {
 		a->snap_r = malloc(2 * (size_t)m->nv * sizeof *a->snap_r);
 		a->snap_dg = malloc(nj * sizeof *a->snap_dg);
 		a->jprev = malloc(2 * nj * sizeof *a->jprev);
@@ -269,6 +290,52 @@ int act_rng_set(act *a, const char *text)
 	return dyn_rng_set(a->d, text);
 }
 
+int act_fresh_get(const act *a, char **text)
+{
+	const mesh *m = a->m;
+	const unsigned char *f = a->d ? dyn_fresh(a->d) : NULL;
+	size_t n = 1, len = 0;
+	for (int j = 0; f && j < m->nj; j++)
+		n += f[j] ? 24 : 0;
+	if ((*text = malloc(n)) == NULL)
+		return MESH_ENOMEM;
+	(*text)[0] = '\0';
+	for (int j = 0; f && j < m->nj; j++)
+		if (f[j])
+			len += (size_t)snprintf(*text + len, n - len, len ? " %d %d" : "%d %d",
+			                        m->jv[2 * j], m->jv[2 * j + 1]);
+	return MESH_OK;
+}
+
+int act_fresh_set(act *a, const char *text)
+{
+	mesh *m = a->m;
+	if (a->d == NULL || text == NULL || text[0] == '\0')
+		return MESH_OK;
+	unsigned char *f = calloc((size_t)(m->nj ? m->nj : 1), 1);
+	if (f == NULL)
+		return MESH_ENOMEM;
+	int st = MESH_OK;
+	for (const char *p = text; *p && st == MESH_OK;) {
+		char *end;
+		long va = strtol(p, &end, 10);
+		const char *q = end;
+		long vb = strtol(q, &end, 10);
+		int j = end == q || va < 0 || vb < 0 || va >= m->nv || vb >= m->nv ? -1 :
+			mesh_junction_find(m, (int)va, (int)vb);
+		if (j < 0)
+			st = MESH_EINVAL;
+		else
+			f[j] = 1;
+		for (p = end; *p == ' '; p++)
+			;
+	}
+	if (st == MESH_OK)
+		dyn_set_fresh(a->d, f);
+	free(f);
+	return st;
+}
+
 /* ---- Euler ---- */
 
 static int state_finite(const act *a)
@@ -370,8 +437,11 @@ static int canonical(act *a, mesh_error *err)
 {
 	mesh *m = a->m;
 	int *pairs = malloc(2 * (size_t)(a->na ? a->na : 1) * sizeof *pairs);
-	if (pairs == NULL)
+	char *fresh = NULL;
+	if (pairs == NULL || act_fresh_get(a, &fresh) != MESH_OK) {
+		free(pairs);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
 	for (int k = 0; k < a->na; k++) {
 		pairs[2 * k] = m->jv[2 * a->aj[k]];
 		pairs[2 * k + 1] = m->jv[2 * a->aj[k] + 1];
@@ -386,6 +456,7 @@ static int canonical(act *a, mesh_error *err)
 		st = mesh_build(m, NULL, &e2);
 	if (st != MESH_OK) {
 		free(pairs);
+		free(fresh);
 		if (st == MESH_ENOMEM)
 			return mesh_error_set(err, 0, st, "out of memory");
 		a->why = ACT_END_NONFINITE;
@@ -394,6 +465,7 @@ static int canonical(act *a, mesh_error *err)
 	}
 	if (mesh_tension_alloc(m) != MESH_OK) {
 		free(pairs);
+		free(fresh);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	}
 	memset(a->active, 0, (size_t)m->nj);
@@ -404,7 +476,11 @@ static int canonical(act *a, mesh_error *err)
 	for (int j = 0; j < m->nj; j++)
 		if (a->active[j])
 			a->aj[a->na++] = j;
-	return euler_dyn(a, err);
+	st = euler_dyn(a, err);
+	if (st == MESH_OK && act_fresh_set(a, fresh) != MESH_OK)
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	free(fresh);
+	return st;
 }
 
 /* The Euler run goes in segments that end at multiples of ACT_CHECKPOINT

@@ -11,6 +11,12 @@
  *              dt <= dt_max, no vertex moving more than dr_max per step,
  *              the noise stepped exactly with every step.  Kept exactly,
  *              for reproduction.
+ *   ACT_SPLIT  Euler for the vertices as ACT_EULER, the tension feedback
+ *              carried exactly over each step's length change ((gamma0 +
+ *              dg) l, which it conserves; dynamics.h, split), turnover
+ *              and noise exactly: what the paper's scheme does when steps
+ *              change lengths little, without its overshoot on junctions
+ *              as short as dr_max (studies/README.md, "T1 flip-flops").
  *   ACT_BDF    SUNDIALS CVODE, variable-order BDF with error control
  *              (rtol on every component, atol = ACT_ATOL_FACTOR rtol
  *              absolute), Newton iterations solved by GMRES preconditioned
@@ -39,7 +45,11 @@
 #include "geom.h"
 #include "mesh.h"
 
-typedef enum { ACT_EULER, ACT_BDF } act_scheme;
+typedef enum { ACT_EULER, ACT_BDF, ACT_SPLIT } act_scheme;
+
+/* "euler", "bdf", "split"; and back (MESH_EINVAL for another name). */
+const char *act_scheme_name(act_scheme s);
+int act_scheme_parse(const char *name, act_scheme *s);
 
 /* Euler runs stop (SIGTERM) and renumber after T1s only at multiples of
  * this time (active.c). */
@@ -49,6 +59,10 @@ typedef enum { ACT_EULER, ACT_BDF } act_scheme;
  * continued from the mesh it wrote is the uninterrupted run, bit for bit,
  * with T1s off. */
 #define ACT_BDF_CHECKPOINT 100
+
+/* The re-T1 length of a junction made by a T1, per unit of its length
+ * (act_opts.t1_again; studies/README.md, "T1 flip-flops"). */
+#define ACT_T1_AGAIN 0.9
 
 /* BDF absolute tolerance per unit of rtol (lengths in sqrt(A0)). */
 #define ACT_ATOL_FACTOR 1e-2
@@ -63,6 +77,12 @@ typedef struct {
 	double dr_max;      /* Euler: largest vertex move per step (1e-3) */
 	double t1_length;   /* T1 threshold (0: topology fixed) */
 	double t1_new;      /* length of a junction made by a T1 (1e-3) */
+	double t1_again;    /* a junction made by a T1 is T1'd again once it
+	                       is shorter than t1_again t1_new (and shrinking,
+	                       Euler), until it has been longer than t1_length
+	                       (ACT_T1_AGAIN).  Euler also takes 0: again as
+	                       soon as it shrinks at all, the rule whose flip
+	                       count grows as 1/dt_max (dynamics.h) */
 	double l_collapse;  /* T1s off: stop when an active junction is this
 	                       short (1e-3) */
 	double checkpoint;  /* BDF: restart the integrator at multiples of this
@@ -148,6 +168,13 @@ int act_row_at(act *a, double t, int j, act_row *row);
  * MESH_EDOM (buffer too small), MESH_EINVAL, MESH_ENOMEM. */
 int act_rng_get(const act *a, char *buf, size_t n);
 int act_rng_set(act *a, const char *text);
+
+/* The junctions made by a T1 that are on the lowered threshold (t1_again;
+ * Euler schemes): their vertex pairs as text "a b a b ..." (malloc'd,
+ * "" for none), and back (MESH_EINVAL for a pair that is no junction).  A
+ * stopped run keeps them in its state line active_fresh.  MESH_ENOMEM. */
+int act_fresh_get(const act *a, char **text);
+int act_fresh_set(act *a, const char *text);
 
 /* Perturb the start state: every vertex coordinate and the tension of
  * every junction with active[j] != 0 (all when NULL) by eps times a

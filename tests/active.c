@@ -211,6 +211,22 @@ static void convergence(void)
 	ok(r1 > 1.8 && r1 < 2.2 && r2 > 1.8 && r2 < 2.2,
 	   "euler converges to bdf at first order (error ratios %.3f, %.3f on halving dt)", r1, r2);
 	ok(err[2] < 1e-5, "euler at dt 2.5e-4 within 1e-5 of bdf (%.2g)", err[2]);
+	/* split differs from euler only in the tension update: first order
+	 * to the same reference */
+	o.scheme = ACT_SPLIT;
+	double es[3];
+	for (int i = 0; i < 3; i++) {
+		mesh *ms;
+		o.dt_max = 1e-3 / (1 << i);
+		act_free(run(m0, &ms, j, &o, 10, NULL, &why));
+		es[i] = maxdiff(ms, ref, j);
+		diag("split dt %g: max |state - bdf(1e-11)| = %.3g", o.dt_max, es[i]);
+		mesh_free(ms);
+	}
+	ok(es[0] / es[1] > 1.8 && es[0] / es[1] < 2.2 && es[1] / es[2] > 1.8 &&
+	   es[1] / es[2] < 2.2 && es[2] < 1e-5,
+	   "split converges to bdf at first order (error ratios %.3f, %.3f; %.2g at dt 2.5e-4)",
+	   es[0] / es[1], es[1] / es[2], es[2]);
 	/* bdf at looser tolerances approaches the tight one */
 	o.scheme = ACT_BDF;
 	double eb[3];
@@ -227,6 +243,43 @@ static void convergence(void)
 		mesh_free(e[i]);
 	mesh_free(ref);
 	mesh_free(m0);
+}
+
+/* Without turnover (tau huge: exp(-dt/tau) is 1) the feedback keeps
+ * (gamma0 + dg) l of the active junction exactly, down to the collapse:
+ * split holds it to rounding all the way to l = 1e-3, where a step moves
+ * a vertex by about the junction's length; the paper's Euler does not
+ * (its error is what this test tells apart). */
+static double invariant_drift(act_scheme sch, double *lend)
+{
+	mesh *m0 = honeycomb(6, 3.65);
+	act_perturb(m0, NULL, 1e-4, 7, NULL, 0);
+	m0->dg[0] = 0.2;   /* pulling: the junction shrinks and collapses */
+	act_opts o;
+	act_opts_init(&o);
+	o.scheme = sch;
+	o.tau = 1e300;
+	o.gamma0 = 1;
+	o.l_collapse = 1e-3;
+	double d[2], q0 = (o.gamma0 + m0->dg[0]) * junction_vec(m0, m0->r, 0, d);
+	act_end why;
+	mesh *mo;
+	act_free(run(m0, &mo, 0, &o, 2000, NULL, &why));
+	*lend = junction_vec(mo, mo->r, 0, d);
+	double q = (o.gamma0 + mo->dg[0]) * *lend;
+	mesh_free(mo);
+	mesh_free(m0);
+	return why == ACT_END_COLLAPSE ? fabs(q / q0 - 1) : NAN;
+}
+
+static void split_invariant(void)
+{
+	double ls, le;
+	double ds = invariant_drift(ACT_SPLIT, &ls), de = invariant_drift(ACT_EULER, &le);
+	diag("(gamma0 + dg) l, relative drift to the collapse: split %.3g (l %.3g), euler %.3g (l %.3g)",
+	     ds, ls, de, le);
+	ok(ds < 1e-10, "split keeps (gamma0 + dg) l to rounding down to l 1e-3 (%.2g)", ds);
+	ok(de > 1e-4, "the paper's euler does not (%.2g): the check tells them apart", de);
 }
 
 /* Growth rate and angular frequency of x(t) = l - l0 from its successive
@@ -556,10 +609,11 @@ static void job(void)
 
 int main(void)
 {
-	tap_plan(4 + 5 + 5 + 2 + 1 + 2 + 4);
+	tap_plan(4 + 5 + 6 + 2 + 2 + 1 + 2 + 4);
 	job();
 	nonfinite();
 	convergence();
+	split_invariant();
 	linear();
 	direct();
 	cycle();

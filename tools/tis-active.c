@@ -18,7 +18,7 @@ static const char usage[] =
 	"(--junction A B | --index K | --random K | --list FILE | --network)\n"
 	"       [--rate R | --tau T] [--gamma0 G] [--sigma S] [--p0 X] [--ka Y] [--time T]\n"
 	"       [--perturb EPS] [--seed N] [--scheme bdf|euler] [--rtol X] [--checkpoint T]\n"
-	"       [--dt DT] [--dr DR] [--t1 L] [--t1-new L] [--collapse L] [--trace FILE]\n"
+	"       [--dt DT] [--dr DR] [--t1 L] [--t1-new L] [--t1-again F] [--collapse L] [--trace FILE]\n"
 	"       [--trace-every T] [--events FILE] [--every T] [MESH]";
 static const char help[] =
 	"Integrate active junction tensions (paper eq. 1) with the overdamped vertex\n"
@@ -40,8 +40,9 @@ static const char help[] =
 	"  --perturb EPS      s.d. of the start perturbation (default " STR(ACT_PERTURB_DEFAULT) ";\n"
 	"                     0 for a mesh that carries tensions)\n"
 	"  --seed N           random seed (default 1)\n"
-	"  --scheme S         bdf (default) or euler (the paper's; default with noise\n"
-	"                     and in network mode)\n"
+	"  --scheme S         bdf (default), euler (the paper's; default with noise)\n"
+	"                     or split (euler, tension feedback exact per step;\n"
+	"                     default in network mode)\n"
 	"  --rtol X           bdf tolerance (default 1e-9)\n"
 	"  --checkpoint T     bdf restarts at multiples of T, where a stop (SIGTERM)\n"
 	"                     waits for; continuing is then bit-exact (default "
@@ -49,6 +50,8 @@ static const char help[] =
 	"  --dt DT, --dr DR   euler step limits (default 0.001 each)\n"
 	"  --t1 L             T1 threshold (network default 0.01, else 0: off)\n"
 	"  --t1-new L         length of a junction made by a T1 (default 0.001)\n"
+	"  --t1-again F       it is T1'd again below F times that (default 0.9;\n"
+	"                     euler 0: as soon as it shrinks)\n"
 	"  --collapse L       T1s off: stop when an active junction is this short\n"
 	"                     (default 0.001)\n"
 	"  --trace FILE       TSV time series (several junctions: %d in FILE is the\n"
@@ -88,7 +91,7 @@ static struct opts parse(int argc, char **argv)
 {
 	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
 	       O_SIGMA, O_P0, O_KA, O_TIME, O_PERTURB, O_SEED, O_SCHEME, O_RTOL, O_CHECKPOINT, O_DT, O_DR,
-	       O_T1, O_T1NEW, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_EVENTS, O_EVERY, O_VERSION };
+	       O_T1, O_T1NEW, O_T1AGAIN, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_EVENTS, O_EVERY, O_VERSION };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "index", required_argument, NULL, O_INDEX },
@@ -111,6 +114,7 @@ static struct opts parse(int argc, char **argv)
 		{ "dr", required_argument, NULL, O_DR },
 		{ "t1", required_argument, NULL, O_T1 },
 		{ "t1-new", required_argument, NULL, O_T1NEW },
+		{ "t1-again", required_argument, NULL, O_T1AGAIN },
 		{ "collapse", required_argument, NULL, O_COLLAPSE },
 		{ "trace", required_argument, NULL, O_TRACE },
 		{ "trace-every", required_argument, NULL, O_TRACEEVERY },
@@ -146,12 +150,8 @@ static struct opts parse(int argc, char **argv)
 		case O_PERTURB: o.perturb = cli_double_range("--perturb", optarg, 0, 0.1); o.has_perturb = 1; break;
 		case O_SEED: o.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
 		case O_SCHEME:
-			if (strcmp(optarg, "bdf") == 0)
-				o.a.scheme = ACT_BDF;
-			else if (strcmp(optarg, "euler") == 0)
-				o.a.scheme = ACT_EULER;
-			else
-				cli_usage_error("--scheme: bdf or euler, not '%s'", optarg);
+			if (act_scheme_parse(optarg, &o.a.scheme) != MESH_OK)
+				cli_usage_error("--scheme: bdf, euler or split, not '%s'", optarg);
 			o.has_scheme = 1;
 			break;
 		case O_RTOL: o.a.rtol = cli_double_range("--rtol", optarg, 1e-14, 0.1); break;
@@ -160,6 +160,7 @@ static struct opts parse(int argc, char **argv)
 		case O_DR: o.a.dr_max = cli_double_range("--dr", optarg, 1e-9, 0.1); break;
 		case O_T1: o.a.t1_length = cli_double_range("--t1", optarg, 0, 0.5); o.has_t1 = 1; break;
 		case O_T1NEW: o.a.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
+		case O_T1AGAIN: o.a.t1_again = cli_double_range("--t1-again", optarg, 0, 0.999); break;
 		case O_COLLAPSE: o.a.l_collapse = cli_double_range("--collapse", optarg, 1e-9, 0.5); break;
 		case O_TRACE: o.trace = optarg; break;
 		case O_TRACEEVERY: o.trace_every = cli_double_range("--trace-every", optarg, 1e-9, 1e12); break;
@@ -181,7 +182,7 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("--t1-new must be shorter than the T1 threshold");
 	/* bdf restarts at every T1, which a network does often (bench/RESULTS.md) */
 	if ((o.a.sigma > 0 || o.sel == SEL_NET) && !o.has_scheme)
-		o.a.scheme = ACT_EULER;
+		o.a.scheme = o.sel == SEL_NET ? ACT_SPLIT : ACT_EULER;
 	if (o.a.sigma > 0 && o.a.scheme == ACT_BDF)
 		cli_usage_error("--scheme bdf has no noise; use --scheme euler with --sigma");
 	int multi = o.sel == SEL_RANDOM || o.sel == SEL_LIST;
