@@ -200,6 +200,9 @@ void act_free(act *a)
 	free(a->row_grad);
 	free(a->row_dg);
 	energy_ws_free(a->row_ws);
+	free(a->watch);
+	free(a->wl);
+	free(a->wdg);
 	free(a);
 }
 
@@ -265,11 +268,43 @@ int act_row_at(act *a, double t, int j, act_row *row)
 	row->dg_mean = mean;
 	row->dg_sd = a->na > 1 ? sqrt(s2 / (a->na - 1)) : 0;
 	double d[2];
+	for (int k = 0; k < a->nwatch; k++) {
+		a->wl[k] = act_jvec(m, r, a->watch[k], d);
+		a->wdg[k] = dg[a->watch[k]];
+	}
+	row->nwatch = a->nwatch;
+	row->wl = a->wl;
+	row->wdg = a->wdg;
 	row->lmin = INFINITY;
 	for (int k = 0; k < m->nj; k++) {
 		double l = act_jvec(m, r, k, d);
 		row->lmin = l < row->lmin ? l : row->lmin;
 	}
+	return MESH_OK;
+}
+
+int act_watch(act *a, const int *j, int n)
+{
+	for (int k = 0; k < n; k++)
+		if (j[k] < 0 || j[k] >= a->m->nj)
+			return MESH_EDOM;
+	size_t sz = (size_t)(n ? n : 1);
+	int *w = malloc(sz * sizeof *w);
+	double *wl = malloc(sz * sizeof *wl), *wdg = malloc(sz * sizeof *wdg);
+	if (!w || !wl || !wdg) {
+		free(w);
+		free(wl);
+		free(wdg);
+		return MESH_ENOMEM;
+	}
+	memcpy(w, j, (size_t)n * sizeof *w);
+	free(a->watch);
+	free(a->wl);
+	free(a->wdg);
+	a->watch = w;
+	a->wl = wl;
+	a->wdg = wdg;
+	a->nwatch = n;
 	return MESH_OK;
 }
 
@@ -446,6 +481,17 @@ static int canonical(act *a, mesh_error *err)
 		pairs[2 * k] = m->jv[2 * a->aj[k]];
 		pairs[2 * k + 1] = m->jv[2 * a->aj[k] + 1];
 	}
+	/* the watched junctions by their vertex pairs */
+	int *wp = malloc(2 * (size_t)(a->nwatch ? a->nwatch : 1) * sizeof *wp);
+	if (wp == NULL) {
+		free(pairs);
+		free(fresh);
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
+	for (int k = 0; k < a->nwatch; k++) {
+		wp[2 * k] = m->jv[2 * a->watch[k]];
+		wp[2 * k + 1] = m->jv[2 * a->watch[k] + 1];
+	}
 	/* on a copy first: a tissue that became invalid (a cell turned
 	 * inside out) is reported, and m keeps its working arrays */
 	mesh_error e2;
@@ -457,6 +503,7 @@ static int canonical(act *a, mesh_error *err)
 	if (st != MESH_OK) {
 		free(pairs);
 		free(fresh);
+		free(wp);
 		if (st == MESH_ENOMEM)
 			return mesh_error_set(err, 0, st, "out of memory");
 		a->why = ACT_END_NONFINITE;
@@ -466,12 +513,16 @@ static int canonical(act *a, mesh_error *err)
 	if (mesh_tension_alloc(m) != MESH_OK) {
 		free(pairs);
 		free(fresh);
+		free(wp);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	}
 	memset(a->active, 0, (size_t)m->nj);
 	for (int k = 0; k < a->na; k++)
 		a->active[mesh_junction_find(m, pairs[2 * k], pairs[2 * k + 1])] = 1;
+	for (int k = 0; k < a->nwatch; k++)
+		a->watch[k] = mesh_junction_find(m, wp[2 * k], wp[2 * k + 1]);
 	free(pairs);
+	free(wp);
 	a->na = 0;
 	for (int j = 0; j < m->nj; j++)
 		if (a->active[j])

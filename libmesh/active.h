@@ -160,8 +160,21 @@ int act_sample(act *a, double t, double *r, double *dg);
 typedef struct {
 	double t, l, dg, ldot, W, f6, dg_mean, dg_sd, lmin;
 	long nt1;
+	int nwatch;               /* act_watch: the watched junctions' */
+	const double *wl, *wdg;   /* lengths and tensions (act's, valid until
+	                             the next act_row_at) */
 } act_row;
 int act_row_at(act *a, double t, int j, act_row *row);
+
+/* Watch n junctions (numbers of the mesh now): their lengths and tensions
+ * go into every act_row.  A junction keeps its identity through T1s: the
+ * T1'd junction a-b is the new one (a-b turned by 90 degrees, topology.h,
+ * so its length jumps from below t1_length to t1_new and its tension to
+ * 0), and a junction next to it keeps its number while one of its
+ * vertices changes; where the Euler schemes renumber the junctions (at
+ * checkpoints after T1s) the watched ones are followed by their vertex
+ * pairs.  MESH_EDOM (a number out of range), MESH_ENOMEM. */
+int act_watch(act *a, const int *j, int n);
 
 /* The noise generator's state (ou_state_get), "" when no noise has been
  * drawn; restore it before the first step of a continued run.  MESH_OK,
@@ -206,6 +219,9 @@ typedef struct {
 	double t_end;        /* run until this time */
 	double trace_every;  /* row interval (> 0) */
 	double every;        /* frame interval (0: no frames) */
+	const int *watch;    /* junctions to watch (act_watch; numbers of the
+	                        input mesh), nwatch of them */
+	int nwatch;
 	const char *name;    /* the input's name, for messages (NULL: "<mesh>") */
 } act_job_opts;
 

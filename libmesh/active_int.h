@@ -32,6 +32,9 @@ struct act {
 	void *obs_data;
 	act_end why;
 	double *row_r, *row_dg, *row_grad;  /* act_row_at scratch */
+	int *watch;             /* act_watch: junctions, current numbers */
+	int nwatch;
+	double *wl, *wdg;       /* their lengths and tensions in a row */
 	energy_ws *row_ws;
 	/* BDF */
 	bdf *b;

@@ -149,6 +149,11 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 		st = mesh_error_set(err, 0, MESH_EINVAL, "bad random generator state in the mesh");
 		goto out;
 	}
+	if (jo->nwatch > 0 && (st = act_watch(u.a, jo->watch, jo->nwatch)) != MESH_OK) {
+		st = st == MESH_ENOMEM ? mesh_error_set(err, 0, st, "out of memory") :
+			mesh_error_set(err, 0, st, "a watched junction number is not below %d", m->nj);
+		goto out;
+	}
 	if (mesh_state_get(m, "active_t") &&
 	    (st = act_fresh_set(u.a, mesh_state_get(m, "active_fresh"))) != MESH_OK) {
 		st = st == MESH_ENOMEM ? mesh_error_set(err, 0, st, "out of memory") :
