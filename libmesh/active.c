@@ -126,6 +126,7 @@ static int euler_dyn(act *a, mesh_error *err)
 	dyn_set_t1_hook(a->d, euler_t1, a);
 	a->nt1_base = a->c.nt1;
 	a->refused_base = a->c.nt1_refused;
+	a->again_base = a->c.nt1_again;
 	return MESH_OK;
 }
 
@@ -245,7 +246,8 @@ int act_row_at(act *a, double t, int j, act_row *row)
 	if (st != MESH_OK)
 		return st;
 	const double *r = a->row_r, *dg = a->row_dg;
-	*row = (act_row){ .t = t, .l = NAN, .dg = NAN, .ldot = NAN, .nt1 = a->c.nt1 };
+	*row = (act_row){ .t = t, .l = NAN, .dg = NAN, .ldot = NAN, .nt1 = a->c.nt1,
+			  .nt1_again = a->c.nt1_again };
 	row->W = mesh_energy_tension(m, r, &a->p, dg, a->row_grad, a->row_ws);
 	if (j >= 0) {
 		double d[2];
@@ -436,6 +438,7 @@ static int euler_obs(dyn *d, void *data)
 	 * start from zero */
 	a->c.nt1 = a->nt1_base + c.nt1;
 	a->c.nt1_refused = a->refused_base + c.nt1_refused;
+	a->c.nt1_again = a->again_base + c.nt1_again;
 	if (a->o.t1_length == 0) {
 		/* the collapse event: the first step at which an active junction
 		 * is shorter than l_collapse; if that step carried it through

@@ -111,6 +111,8 @@ typedef struct {
 	long nlin;         /* BDF: GMRES iterations */
 	long nt1;          /* T1s done */
 	long nt1_refused;  /* T1s not allowed */
+	long nt1_again;    /* T1s of a junction made by a T1 before it grew
+	                      past t1_length: flip-backs */
 	int jcollapse;     /* ACT_END_COLLAPSE: the junction, else -1 */
 } act_counts;
 
@@ -156,10 +158,11 @@ int act_sample(act *a, double t, double *r, double *dg);
 /* What a trace row shows, at time t in [act_time_prev, act_time] (as for
  * act_sample): junction j's length, tension and dl/dt (j < 0: not
  * filled), W, the hexagon fraction, the mean and standard deviation of
- * the active tensions, the shortest junction and the T1 count. */
+ * the active tensions, the shortest junction, the T1 count and how many
+ * of them were flip-backs (act_counts). */
 typedef struct {
 	double t, l, dg, ldot, W, f6, dg_mean, dg_sd, lmin;
-	long nt1;
+	long nt1, nt1_again;
 	int nwatch;               /* act_watch: the watched junctions' */
 	const double *wl, *wdg;   /* lengths and tensions (act's, valid until
 	                             the next act_row_at) */

@@ -25,7 +25,8 @@ struct act {
 	double *jprev;          /* 2 na: active junction vectors, last step */
 	double snap_t;
 	unsigned long seed;
-	long nt1_base, refused_base;  /* counts of the integrators before d */
+	long nt1_base, refused_base, again_base;  /* counts of the integrators
+	                                             before d */
 	long snap_nt1;
 	int have_prev;
 	act_observer obs;

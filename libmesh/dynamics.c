@@ -39,7 +39,7 @@ struct dyn {
 	int ncand;
 	unsigned char *incand;/* nj flags: j is in cand */
 	unsigned char *fresh; /* nj flags: made by a T1 and not yet longer than
-	                         t1_length (t1_again > 0) */
+	                         t1_length */
 	int cand_ok;          /* cand is valid for the current options */
 	double margin, disp;
 	double ou_acc;        /* time since the last OU update (ou_dt > 0) */
@@ -305,7 +305,7 @@ static int do_t1s(dyn *d, mesh_error *err)
 		for (int k = 0; k < d->ncand; k++) {
 			int j = d->cand[k];
 			double l = d->l2[j];
-			if (d->fresh[j] && !(l < again))
+			if (d->fresh[j] && again > 0 && !(l < again))
 				continue;
 			if (l < d->lprev[j] && (l < lbest || (l == lbest && j < best))) {
 				best = j;
@@ -327,7 +327,8 @@ static int do_t1s(dyn *d, mesh_error *err)
 			continue;
 		}
 		d->c.nt1++;
-		d->fresh[best] = d->o.t1_again > 0;
+		d->c.nt1_again += d->fresh[best];
+		d->fresh[best] = 1;
 #ifdef TIS_CHECK_INVARIANTS
 		if ((st = mesh_invariants(m, &e2)) != MESH_OK)
 			return mesh_error_set(err, 0, MESH_EDOM, "invariant broken after T1 %ld (junction "

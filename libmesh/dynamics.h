@@ -110,6 +110,9 @@ typedef struct {
 	long nstep;        /* Euler steps (= force evaluations) */
 	long nt1;          /* T1s done */
 	long nt1_refused;  /* T1s not allowed */
+	long nt1_again;    /* T1s of a junction made by a T1 that had not yet
+	                      been longer than t1_length (flips back; not in
+	                      the state lines) */
 	long nsettle;      /* runs finished by settling */
 	double t_settled;  /* time covered by settling instead of steps */
 } dyn_counts;
@@ -137,7 +140,7 @@ int dyn_set_active(dyn *d, const unsigned char *active);
 const unsigned char *dyn_active(const dyn *d);
 
 /* The junctions made by a T1 that have not yet been longer than
- * t1_length (nj flags, current numbering; all 0 unless t1_again > 0),
+ * t1_length (nj flags, current numbering; with t1_again 0 only counted),
  * and their restoration (a run continued after renumbering).  dyn's own
  * state lines do not hold them: a run with t1_again > 0 that is stopped
  * records them itself (tis-active does). */

@@ -240,8 +240,8 @@ static void on_row(void *data, const act_row *w)
 		fprintf(u->trace, "%.10g\t%.12g\t%.12g\t%.12g\t%.12g\n", w->t, w->l, w->dg, w->ldot,
 			w->W);
 	else
-		fprintf(u->trace, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g", w->t, w->f6, w->W,
-			w->nt1, w->dg_mean, w->dg_sd, w->lmin);
+		fprintf(u->trace, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g\t%ld", w->t, w->f6,
+			w->W, w->nt1, w->dg_mean, w->dg_sd, w->lmin, w->nt1_again);
 	for (int k = 0; k < w->nwatch; k++)
 		fprintf(u->trace, "\t%.10g\t%.10g", w->wl[k], w->wdg[k]);
 	if (u->j < 0)
@@ -293,7 +293,7 @@ static void on_begin(void *data, act *a, mesh *m)
 	struct out *u = data;
 	if (u->o->trace) {
 		u->trace = open_out(u->o->trace, u->jfile);
-		char cols[4096] = "t\tf6\tW\tnt1\tdg_mean\tdg_sd\tlmin";
+		char cols[4096] = "t\tf6\tW\tnt1\tdg_mean\tdg_sd\tlmin\tnt1_again";
 		for (int k = 0, n = (int)strlen(cols); k < u->o->nwatch && n < 4000; k++)
 			n += snprintf(cols + n, sizeof cols - n, "\tl_%d\tdg_%d", u->o->watch[k],
 			              u->o->watch[k]);
