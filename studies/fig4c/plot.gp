@@ -1,9 +1,12 @@
 # Fig. 4C: l(t) of the three junctions with the most T1s during the
 # collective oscillation at (0.23, p_hex, 0.09); the T1 threshold dashed.
+# Rows every 0.05: a T1 and its flip-back (about 0.002 apart) fall
+# between rows, so a T1 shows as a dip to near the threshold.
 set terminal pngcairo enhanced size 1200,800 font "sans,12"
 set output out
 set datafile separator "\t"
-set key autotitle columnhead
+set key autotitle columnhead noenhanced
+set yrange [1e-3:1.5]
 tr = in[1:strlen(in) - 4] . ".traces/1.tsv"
 set multiplot layout 3,1
 do for [k=0:2] {
