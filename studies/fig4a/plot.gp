@@ -8,6 +8,7 @@ code(s) = s eq "stable" ? 1 : s eq "oscillation" ? 2 : s eq "ordering" ? 3 : s e
 set palette defined (0 "gray", 1 "blue", 2 "red", 3 "dark-green", 4 "black")
 set cbrange [0:4]
 unset colorbox
+set offsets graph 0.08, graph 0.08, graph 0.2, graph 0.08
 set multiplot layout 1,2
 set title "Fig. 4A: ordered networks, {/Symbol g}_0 = 0.03"
 set xlabel "p_0"; set ylabel "1/{/Symbol t}_m"; set logscale y
