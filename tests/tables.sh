@@ -5,7 +5,7 @@
 # and tis-fit tables by column name; the README's two examples run as
 # written.  pandas and gnuplot tests are skipped when they are missing.
 . "$(dirname "$0")/lib.sh"
-plan 25
+plan 27
 top=$(cd "$(dirname "$0")/.." && pwd)
 PY=${PYTHON:-/usr/bin/python3}
 
@@ -41,6 +41,9 @@ fails_with 1 "tis-fit: names without column f" tis-fit "$T/nof.tsv"
 rows "$T/a.tsv" >"$T/nohead.tsv"
 fails_with 1 "tis-fit: rows without names" tis-fit "$T/nohead.tsv"
 fails_with 2 "tis-fit: --threshold without --cusps" tis-fit --threshold 1e-4 "$T/a.tsv"
+cut -f1-9 "$T/a.tsv" >"$T/nofres.tsv"
+fails_with 1 "tis-fit: --max-fres on a table without fres" tis-fit --max-fres 1e-6 "$T/nofres.tsv"
+ok "tis-fit: without fres, fres_max is nan" test "$(tis-fit "$T/nofres.tsv" | rows | cut -f15)" = nan
 
 # tis-info tables: time from frames, per-cell and per-junction rows
 tis-anneal --stage 0.3:3 --relax 0 --every 1 --log "$T/log.tsv" "$T/h.mesh" >"$T/frames"

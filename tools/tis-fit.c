@@ -333,6 +333,10 @@ int main(int argc, char **argv)
 		}
 		if (!have_header)
 			cli_die(EXIT_INPUT, "%s:%ld: data before the line of column names", input_name, line);
+		/* an option that would do nothing is refused, not ignored */
+		if (col[C_FRES] < 0 && isfinite(o.max_fres))
+			cli_die(EXIT_INPUT, "%s:%ld: --max-fres: the table has no fres column",
+			        input_name, line);
 		if (n != ncols)
 			cli_die(EXIT_INPUT, "%s:%ld: %d fields, the header names %d",
 			        input_name, line, n, ncols);
