@@ -312,3 +312,103 @@ int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
 		r->kind = r->changes >= 3 ? BEH_DAMPED : BEH_STABLE;
 	return MESH_OK;
 }
+
+/* ---- networks ---- */
+
+void beh_net_opts_default(beh_net_opts *o)
+{
+	*o = (beh_net_opts){ .df6 = 0.05, .decay_frac = 0.1, .band_frac = 0.05, .tail_frac = 0.1 };
+}
+
+const char *beh_net_name(beh_net_kind k)
+{
+	switch (k) {
+	case BEH_NET_UNDECIDED: return "undecided";
+	case BEH_NET_STABLE: return "stable";
+	case BEH_NET_OSCILLATION: return "oscillation";
+	case BEH_NET_ORDERING: return "ordering";
+	case BEH_NET_COLLAPSE: return "collapse";
+	}
+	return "?";
+}
+
+static void range_of(int from, int n, const double *x, double *lo, double *hi)
+{
+	*lo = INFINITY;
+	*hi = -INFINITY;
+	for (int i = from; i < n; i++) {
+		*lo = x[i] < *lo ? x[i] : *lo;
+		*hi = x[i] > *hi ? x[i] : *hi;
+	}
+}
+
+int beh_network(int n, const double *t, const double *f6, const double *W, const double *nt1,
+                const double *dg_sd, const beh_net_opts *o, beh_net_result *r,
+                mesh_error *err)
+{
+	*r = (beh_net_result){ .kind = BEH_NET_UNDECIDED, .f6_start = NAN, .f6_end = NAN,
+	                       .t1_rate = NAN, .dg_sd_end = NAN, .amplitude = NAN,
+	                       .period = NAN, .t_end = NAN };
+	if (n < 1)
+		return mesh_error_set(err, 0, MESH_EINVAL, "empty trace");
+	for (int i = 0; i < n; i++) {
+		if (!isfinite(t[i]) || !isfinite(f6[i]) || !isfinite(W[i]) || !isfinite(nt1[i]) ||
+		    !isfinite(dg_sd[i]))
+			return mesh_error_set(err, i + 1, MESH_EINVAL,
+			                      "row %d: t, f6, W, nt1 and dg_sd must be finite", i + 1);
+		if (i > 0 && !(t[i] > t[i - 1]))
+			return mesh_error_set(err, i + 1, MESH_EINVAL, "row %d: t must increase", i + 1);
+	}
+	double T = t[n - 1] - t[0];
+	int tail = row_at(n, t, t[n - 1] - o->tail_frac * T);
+	int half = row_at(n, t, t[0] + 0.5 * T);
+	r->t_end = t[n - 1];
+	r->f6_start = f6[0];
+	r->f6_end = time_mean(n, t, f6, tail);
+	r->t1_rate = tail < n - 1 ? (nt1[n - 1] - nt1[tail]) / (t[n - 1] - t[tail]) : NAN;
+	double lo, dmax;
+	range_of(tail, n, dg_sd, &lo, &r->dg_sd_end);
+	range_of(0, n, dg_sd, &lo, &dmax);
+	if (n < 8)
+		return MESH_OK;
+	if (r->f6_end <= r->f6_start - o->df6) {
+		r->kind = BEH_NET_COLLAPSE;
+		return MESH_OK;
+	}
+	if (r->f6_end >= r->f6_start + o->df6) {
+		r->kind = BEH_NET_ORDERING;
+		return MESH_OK;
+	}
+	if (r->dg_sd_end <= o->decay_frac * dmax) {
+		r->kind = BEH_NET_STABLE;
+		return MESH_OK;
+	}
+	/* crossings of W's mean over the second half, with a band */
+	double wlo, whi, tlo, thi;
+	range_of(half, n, W, &wlo, &whi);
+	range_of(tail, n, W, &tlo, &thi);
+	double mean = time_mean(n, t, W, half), band = o->band_frac * (whi - wlo);
+	int side = 0, ups = 0;
+	double tup0 = NAN, tup = NAN;
+	r->crossings = 0;
+	for (int i = half; i < n; i++) {
+		int s = W[i] > mean + band ? 1 : W[i] < mean - band ? -1 : 0;
+		if (s == 0 || s == side)
+			continue;
+		if (side != 0) {
+			r->crossings++;
+			if (s > 0) {
+				if (ups++ == 0)
+					tup0 = t[i];
+				tup = t[i];
+			}
+		}
+		side = s;
+	}
+	if (r->crossings >= 6 && ups >= 2 && thi - tlo >= 0.5 * (whi - wlo) && whi > wlo) {
+		r->kind = BEH_NET_OSCILLATION;
+		r->amplitude = 0.5 * (whi - wlo);
+		r->period = (tup - tup0) / (ups - 1);
+	}
+	return MESH_OK;
+}

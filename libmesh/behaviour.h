@@ -89,4 +89,56 @@ int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
 int beh_collapse_fit(int n, const double *t, const double *l, double *tc, double *beta,
                      double *se, int *nfit, mesh_error *err);
 
+/* ---- networks (every junction active: tis-active --network) ----
+ *
+ * What a network did, from its trace rows (t, f6, W, nt1, dg_sd; paper
+ * Fig. 4A, B).  The tail is the last tail_frac of the trace's time, the
+ * second half its last half; f6_0 is the first row's f6, f6_end the mean
+ * over the tail.  In the order applied (tis-behaviour(1) states them):
+ *
+ *  1. undecided: fewer than 8 rows.
+ *  2. collapse: f6_end <= f6_0 - df6: T1s all over the tissue disorder
+ *     it (a T1 storm does this; t1_rate says how fast they go on).
+ *  3. ordering: f6_end >= f6_0 + df6: T1s order it (active ordering).
+ *  4. stable: the tension spread has died out: max dg_sd over the tail
+ *     <= decay_frac times its maximum over the trace.
+ *  5. oscillation: over the second half W crosses its mean (with a
+ *     hysteresis band of band_frac times its range there) at least 6
+ *     times (3 full periods), and the range of W over the tail is at
+ *     least half its range over the second half (sustained): collective
+ *     oscillation, with its period (mean time between upward crossings)
+ *     and amplitude ((max - min)/2 of W over the second half).
+ *  6. undecided: still active without any of these (irregular, still
+ *     growing, or too short).
+ */
+typedef enum { BEH_NET_UNDECIDED, BEH_NET_STABLE, BEH_NET_OSCILLATION, BEH_NET_ORDERING,
+	       BEH_NET_COLLAPSE } beh_net_kind;
+
+typedef struct {
+	double df6;         /* change of f6 that counts as (dis)ordering (0.05) */
+	double decay_frac;  /* tension spread left for stable (0.1) */
+	double band_frac;   /* hysteresis band of W's crossings (0.05) */
+	double tail_frac;   /* the end of the trace that shows its end state (0.1) */
+} beh_net_opts;
+
+void beh_net_opts_default(beh_net_opts *o);
+
+typedef struct {
+	beh_net_kind kind;
+	double f6_start, f6_end;
+	double t1_rate;      /* T1s per time unit over the tail */
+	double dg_sd_end;    /* max dg_sd over the tail */
+	double amplitude, period;  /* of W (oscillation), else NaN */
+	int crossings;       /* of W over the second half */
+	double t_end;
+} beh_net_result;
+
+const char *beh_net_name(beh_net_kind k);
+
+/* Classify a network trace of n rows (t strictly increasing, the rest
+ * finite).  MESH_EINVAL with the row as its line; MESH_ENOMEM. */
+int beh_network(int n, const double *t, const double *f6, const double *W, const double *nt1,
+                const double *dg_sd, const beh_net_opts *o, beh_net_result *r,
+                mesh_error *err);
+
 #endif

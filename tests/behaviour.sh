@@ -4,7 +4,7 @@
 # column, the provenance carried into its row, and bad input.  The rules
 # themselves are tested in tests/behaviour.c.
 . "$(dirname "$0")/lib.sh"
-plan 19
+plan 25
 
 # a sustained cosine (amplitude 0.05, period 35) and a damped one
 awk 'BEGIN { print "# made by the test"; print "t\tl\tdg"
@@ -68,4 +68,19 @@ fails_with 1 "a trace without an l column" sh -c "printf 't\tdg\n0\t1\n' | tis-b
 fails_with 1 "a field that is not a number" sh -c "printf 't\tl\n0\t1\n1\tx\n' | tis-behaviour"
 fails_with 1 "a file that does not exist" tis-behaviour "$T/none.tsv"
 fails_with 2 "an unknown option" tis-behaviour --bogus "$T/cyc.tsv"
+# --network on network runs of a 6x6 honeycomb that do each thing: the
+# tensions die out (rate 1, gamma0 0.01, p0 3.65), a T1 storm disorders it
+# (rate 0.1, gamma0 3), collective oscillation at p_hex (rate 0.23,
+# gamma0 0.09, the paper's Fig. 4C point)
+tis-hex 6 6 --p0 3.65 >"$T/h6.mesh"
+tis-hex 6 6 --p0 3.7224194364083982 >"$T/p6.mesh"
+tis-active --network --rate 1 --gamma0 0.01 --time 40 --trace "$T/n1.tsv" "$T/h6.mesh" >/dev/null
+tis-active --network --rate 0.1 --gamma0 3 --time 10 --trace-every 0.1 --trace "$T/n2.tsv" "$T/h6.mesh" >/dev/null
+tis-active --network --rate 0.23 --gamma0 0.09 --time 400 --trace "$T/n3.tsv" "$T/p6.mesh" >/dev/null
+ok "--network: relaxing network is stable" sh -c "tis-behaviour --network '$T/n1.tsv' | tail -1 | grep -q '^stable	'"
+ok "--network: T1 storm is collapse (f6 fell, T1s go on)" sh -c "tis-behaviour --network '$T/n2.tsv' | tail -1 | awk -F'\t' '{ exit !(\$1 == \"collapse\" && \$3 < 0.9 && \$4 > 100) }'"
+ok "--network: p_hex network at (0.23, 0.09) oscillates, with a period" sh -c "tis-behaviour --network '$T/n3.tsv' | tail -1 | awk -F'\t' '{ exit !(\$1 == \"oscillation\" && \$7 > 1 && \$7 < 100) }'"
+ok "--network: header" sh -c "tis-behaviour --network '$T/n1.tsv' | grep -v '^#' | head -1 | grep -q '^behaviour	f6_start	f6_end	t1_rate	dg_sd_end	amplitude	period	crossings	t_end\$'"
+fails_with 1 "--network on a single-junction trace (no f6 column)" tis-behaviour --network "$T/cyc.tsv"
+fails_with 2 "--df6 out of range" tis-behaviour --network --df6 2 "$T/n1.tsv"
 done_testing
