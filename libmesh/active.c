@@ -3,6 +3,7 @@
 #include "active_int.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,7 +13,7 @@ void act_opts_init(act_opts *o)
 {
 	*o = (act_opts){ .scheme = ACT_BDF, .tau = 1, .gamma0 = 0, .sigma = 0,
 			 .rtol = 1e-9, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
-			 .t1_new = 1e-3, .l_collapse = 1e-3,
+			 .t1_new = 1e-3, .t1_again = ACT_T1_AGAIN, .l_collapse = 1e-3,
 			 .checkpoint = ACT_BDF_CHECKPOINT };
 }
 
@@ -25,6 +26,22 @@ const char *act_end_name(act_end e)
 	case ACT_END_NONFINITE: return "nonfinite";
 	}
 	return "?";
+}
+
+const char *act_scheme_name(act_scheme s)
+{
+	return s == ACT_BDF ? "bdf" : s == ACT_SPLIT ? "split" : "euler";
+}
+
+int act_scheme_parse(const char *name, act_scheme *s)
+{
+	static const act_scheme all[] = { ACT_EULER, ACT_BDF, ACT_SPLIT };
+	for (size_t k = 0; k < sizeof all / sizeof all[0]; k++)
+		if (strcmp(name, act_scheme_name(all[k])) == 0) {
+			*s = all[k];
+			return MESH_OK;
+		}
+	return MESH_EINVAL;
 }
 
 double act_jvec(const mesh *m, const double *r, int j, double d[2])
@@ -48,6 +65,8 @@ static int check_opts(const act_opts *o, mesh_error *err)
 	if (!(o->t1_length >= 0 && isfinite(o->t1_length)) ||
 	    (o->t1_length > 0 && !(o->t1_new > 0 && o->t1_new < o->t1_length)))
 		return mesh_error_set(err, 0, MESH_EDOM, "bad T1 lengths (0 < new < threshold)");
+	if (!(o->t1_again >= 0 && o->t1_again < 1) || (o->scheme == ACT_BDF && !(o->t1_again > 0)))
+		return mesh_error_set(err, 0, MESH_EDOM, "t1_again must be in (0, 1) (euler: [0, 1))");
 	if (o->scheme == ACT_BDF) {
 		if (o->sigma > 0)
 			return mesh_error_set(err, 0, MESH_EDOM, "the bdf scheme has no noise; use euler for sigma > 0");
@@ -89,6 +108,8 @@ static int euler_dyn(act *a, mesh_error *err)
 	d.dr_max = o->dr_max;
 	d.t1_length = o->t1_length;
 	d.t1_new = o->t1_new;
+	d.t1_again = o->t1_again;
+	d.split = o->scheme == ACT_SPLIT;
 	d.tau = o->tau;
 	d.sigma = o->sigma;
 	d.gamma0 = o->gamma0;
@@ -105,6 +126,7 @@ static int euler_dyn(act *a, mesh_error *err)
 	dyn_set_t1_hook(a->d, euler_t1, a);
 	a->nt1_base = a->c.nt1;
 	a->refused_base = a->c.nt1_refused;
+	a->again_base = a->c.nt1_again;
 	return MESH_OK;
 }
 
@@ -142,7 +164,7 @@ int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *a
 		else
 			m->dg[j] = 0;
 	}
-	if (o->scheme == ACT_EULER) {
+	if (o->scheme != ACT_BDF) {
 		a->snap_r = malloc(2 * (size_t)m->nv * sizeof *a->snap_r);
 		a->snap_dg = malloc(nj * sizeof *a->snap_dg);
 		a->jprev = malloc(2 * nj * sizeof *a->jprev);
@@ -179,6 +201,9 @@ void act_free(act *a)
 	free(a->row_grad);
 	free(a->row_dg);
 	energy_ws_free(a->row_ws);
+	free(a->watch);
+	free(a->wl);
+	free(a->wdg);
 	free(a);
 }
 
@@ -221,7 +246,8 @@ int act_row_at(act *a, double t, int j, act_row *row)
 	if (st != MESH_OK)
 		return st;
 	const double *r = a->row_r, *dg = a->row_dg;
-	*row = (act_row){ .t = t, .l = NAN, .dg = NAN, .ldot = NAN, .nt1 = a->c.nt1 };
+	*row = (act_row){ .t = t, .l = NAN, .dg = NAN, .ldot = NAN, .nt1 = a->c.nt1,
+			  .nt1_again = a->c.nt1_again };
 	row->W = mesh_energy_tension(m, r, &a->p, dg, a->row_grad, a->row_ws);
 	if (j >= 0) {
 		double d[2];
@@ -244,11 +270,43 @@ int act_row_at(act *a, double t, int j, act_row *row)
 	row->dg_mean = mean;
 	row->dg_sd = a->na > 1 ? sqrt(s2 / (a->na - 1)) : 0;
 	double d[2];
+	for (int k = 0; k < a->nwatch; k++) {
+		a->wl[k] = act_jvec(m, r, a->watch[k], d);
+		a->wdg[k] = dg[a->watch[k]];
+	}
+	row->nwatch = a->nwatch;
+	row->wl = a->wl;
+	row->wdg = a->wdg;
 	row->lmin = INFINITY;
 	for (int k = 0; k < m->nj; k++) {
 		double l = act_jvec(m, r, k, d);
 		row->lmin = l < row->lmin ? l : row->lmin;
 	}
+	return MESH_OK;
+}
+
+int act_watch(act *a, const int *j, int n)
+{
+	for (int k = 0; k < n; k++)
+		if (j[k] < 0 || j[k] >= a->m->nj)
+			return MESH_EDOM;
+	size_t sz = (size_t)(n ? n : 1);
+	int *w = malloc(sz * sizeof *w);
+	double *wl = malloc(sz * sizeof *wl), *wdg = malloc(sz * sizeof *wdg);
+	if (!w || !wl || !wdg) {
+		free(w);
+		free(wl);
+		free(wdg);
+		return MESH_ENOMEM;
+	}
+	memcpy(w, j, (size_t)n * sizeof *w);
+	free(a->watch);
+	free(a->wl);
+	free(a->wdg);
+	a->watch = w;
+	a->wl = wl;
+	a->wdg = wdg;
+	a->nwatch = n;
 	return MESH_OK;
 }
 
@@ -267,6 +325,52 @@ int act_rng_set(act *a, const char *text)
 	if (a->d == NULL || text[0] == '\0')
 		return MESH_OK;
 	return dyn_rng_set(a->d, text);
+}
+
+int act_fresh_get(const act *a, char **text)
+{
+	const mesh *m = a->m;
+	const unsigned char *f = a->d ? dyn_fresh(a->d) : NULL;
+	size_t n = 1, len = 0;
+	for (int j = 0; f && j < m->nj; j++)
+		n += f[j] ? 24 : 0;
+	if ((*text = malloc(n)) == NULL)
+		return MESH_ENOMEM;
+	(*text)[0] = '\0';
+	for (int j = 0; f && j < m->nj; j++)
+		if (f[j])
+			len += (size_t)snprintf(*text + len, n - len, len ? " %d %d" : "%d %d",
+			                        m->jv[2 * j], m->jv[2 * j + 1]);
+	return MESH_OK;
+}
+
+int act_fresh_set(act *a, const char *text)
+{
+	mesh *m = a->m;
+	if (a->d == NULL || text == NULL || text[0] == '\0')
+		return MESH_OK;
+	unsigned char *f = calloc((size_t)(m->nj ? m->nj : 1), 1);
+	if (f == NULL)
+		return MESH_ENOMEM;
+	int st = MESH_OK;
+	for (const char *p = text; *p && st == MESH_OK;) {
+		char *end;
+		long va = strtol(p, &end, 10);
+		const char *q = end;
+		long vb = strtol(q, &end, 10);
+		int j = end == q || va < 0 || vb < 0 || va >= m->nv || vb >= m->nv ? -1 :
+			mesh_junction_find(m, (int)va, (int)vb);
+		if (j < 0)
+			st = MESH_EINVAL;
+		else
+			f[j] = 1;
+		for (p = end; *p == ' '; p++)
+			;
+	}
+	if (st == MESH_OK)
+		dyn_set_fresh(a->d, f);
+	free(f);
+	return st;
 }
 
 /* ---- Euler ---- */
@@ -334,6 +438,7 @@ static int euler_obs(dyn *d, void *data)
 	 * start from zero */
 	a->c.nt1 = a->nt1_base + c.nt1;
 	a->c.nt1_refused = a->refused_base + c.nt1_refused;
+	a->c.nt1_again = a->again_base + c.nt1_again;
 	if (a->o.t1_length == 0) {
 		/* the collapse event: the first step at which an active junction
 		 * is shorter than l_collapse; if that step carried it through
@@ -370,11 +475,25 @@ static int canonical(act *a, mesh_error *err)
 {
 	mesh *m = a->m;
 	int *pairs = malloc(2 * (size_t)(a->na ? a->na : 1) * sizeof *pairs);
-	if (pairs == NULL)
+	char *fresh = NULL;
+	if (pairs == NULL || act_fresh_get(a, &fresh) != MESH_OK) {
+		free(pairs);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
 	for (int k = 0; k < a->na; k++) {
 		pairs[2 * k] = m->jv[2 * a->aj[k]];
 		pairs[2 * k + 1] = m->jv[2 * a->aj[k] + 1];
+	}
+	/* the watched junctions by their vertex pairs */
+	int *wp = malloc(2 * (size_t)(a->nwatch ? a->nwatch : 1) * sizeof *wp);
+	if (wp == NULL) {
+		free(pairs);
+		free(fresh);
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
+	for (int k = 0; k < a->nwatch; k++) {
+		wp[2 * k] = m->jv[2 * a->watch[k]];
+		wp[2 * k + 1] = m->jv[2 * a->watch[k] + 1];
 	}
 	/* on a copy first: a tissue that became invalid (a cell turned
 	 * inside out) is reported, and m keeps its working arrays */
@@ -386,6 +505,8 @@ static int canonical(act *a, mesh_error *err)
 		st = mesh_build(m, NULL, &e2);
 	if (st != MESH_OK) {
 		free(pairs);
+		free(fresh);
+		free(wp);
 		if (st == MESH_ENOMEM)
 			return mesh_error_set(err, 0, st, "out of memory");
 		a->why = ACT_END_NONFINITE;
@@ -394,17 +515,26 @@ static int canonical(act *a, mesh_error *err)
 	}
 	if (mesh_tension_alloc(m) != MESH_OK) {
 		free(pairs);
+		free(fresh);
+		free(wp);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	}
 	memset(a->active, 0, (size_t)m->nj);
 	for (int k = 0; k < a->na; k++)
 		a->active[mesh_junction_find(m, pairs[2 * k], pairs[2 * k + 1])] = 1;
+	for (int k = 0; k < a->nwatch; k++)
+		a->watch[k] = mesh_junction_find(m, wp[2 * k], wp[2 * k + 1]);
 	free(pairs);
+	free(wp);
 	a->na = 0;
 	for (int j = 0; j < m->nj; j++)
 		if (a->active[j])
 			a->aj[a->na++] = j;
-	return euler_dyn(a, err);
+	st = euler_dyn(a, err);
+	if (st == MESH_OK && act_fresh_set(a, fresh) != MESH_OK)
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	free(fresh);
+	return st;
 }
 
 /* The Euler run goes in segments that end at multiples of ACT_CHECKPOINT

@@ -11,6 +11,12 @@
  *              dt <= dt_max, no vertex moving more than dr_max per step,
  *              the noise stepped exactly with every step.  Kept exactly,
  *              for reproduction.
+ *   ACT_SPLIT  Euler for the vertices as ACT_EULER, the tension feedback
+ *              carried exactly over each step's length change ((gamma0 +
+ *              dg) l, which it conserves; dynamics.h, split), turnover
+ *              and noise exactly: what the paper's scheme does when steps
+ *              change lengths little, without its overshoot on junctions
+ *              as short as dr_max (studies/README.md, "T1 flip-flops").
  *   ACT_BDF    SUNDIALS CVODE, variable-order BDF with error control
  *              (rtol on every component, atol = ACT_ATOL_FACTOR rtol
  *              absolute), Newton iterations solved by GMRES preconditioned
@@ -39,7 +45,11 @@
 #include "geom.h"
 #include "mesh.h"
 
-typedef enum { ACT_EULER, ACT_BDF } act_scheme;
+typedef enum { ACT_EULER, ACT_BDF, ACT_SPLIT } act_scheme;
+
+/* "euler", "bdf", "split"; and back (MESH_EINVAL for another name). */
+const char *act_scheme_name(act_scheme s);
+int act_scheme_parse(const char *name, act_scheme *s);
 
 /* Euler runs stop (SIGTERM) and renumber after T1s only at multiples of
  * this time (active.c). */
@@ -49,6 +59,10 @@ typedef enum { ACT_EULER, ACT_BDF } act_scheme;
  * continued from the mesh it wrote is the uninterrupted run, bit for bit,
  * with T1s off. */
 #define ACT_BDF_CHECKPOINT 100
+
+/* The re-T1 length of a junction made by a T1, per unit of its length
+ * (act_opts.t1_again; studies/README.md, "T1 flip-flops"). */
+#define ACT_T1_AGAIN 0.9
 
 /* BDF absolute tolerance per unit of rtol (lengths in sqrt(A0)). */
 #define ACT_ATOL_FACTOR 1e-2
@@ -63,6 +77,12 @@ typedef struct {
 	double dr_max;      /* Euler: largest vertex move per step (1e-3) */
 	double t1_length;   /* T1 threshold (0: topology fixed) */
 	double t1_new;      /* length of a junction made by a T1 (1e-3) */
+	double t1_again;    /* a junction made by a T1 is T1'd again once it
+	                       is shorter than t1_again t1_new (and shrinking,
+	                       Euler), until it has been longer than t1_length
+	                       (ACT_T1_AGAIN).  Euler also takes 0: again as
+	                       soon as it shrinks at all, the rule whose flip
+	                       count grows as 1/dt_max (dynamics.h) */
 	double l_collapse;  /* T1s off: stop when an active junction is this
 	                       short (1e-3) */
 	double checkpoint;  /* BDF: restart the integrator at multiples of this
@@ -91,6 +111,8 @@ typedef struct {
 	long nlin;         /* BDF: GMRES iterations */
 	long nt1;          /* T1s done */
 	long nt1_refused;  /* T1s not allowed */
+	long nt1_again;    /* T1s of a junction made by a T1 before it grew
+	                      past t1_length: flip-backs */
 	int jcollapse;     /* ACT_END_COLLAPSE: the junction, else -1 */
 } act_counts;
 
@@ -136,18 +158,39 @@ int act_sample(act *a, double t, double *r, double *dg);
 /* What a trace row shows, at time t in [act_time_prev, act_time] (as for
  * act_sample): junction j's length, tension and dl/dt (j < 0: not
  * filled), W, the hexagon fraction, the mean and standard deviation of
- * the active tensions, the shortest junction and the T1 count. */
+ * the active tensions, the shortest junction, the T1 count and how many
+ * of them were flip-backs (act_counts). */
 typedef struct {
 	double t, l, dg, ldot, W, f6, dg_mean, dg_sd, lmin;
-	long nt1;
+	long nt1, nt1_again;
+	int nwatch;               /* act_watch: the watched junctions' */
+	const double *wl, *wdg;   /* lengths and tensions (act's, valid until
+	                             the next act_row_at) */
 } act_row;
 int act_row_at(act *a, double t, int j, act_row *row);
+
+/* Watch n junctions (numbers of the mesh now): their lengths and tensions
+ * go into every act_row.  A junction keeps its identity through T1s: the
+ * T1'd junction a-b is the new one (a-b turned by 90 degrees, topology.h,
+ * so its length jumps from below t1_length to t1_new and its tension to
+ * 0), and a junction next to it keeps its number while one of its
+ * vertices changes; where the Euler schemes renumber the junctions (at
+ * checkpoints after T1s) the watched ones are followed by their vertex
+ * pairs.  MESH_EDOM (a number out of range), MESH_ENOMEM. */
+int act_watch(act *a, const int *j, int n);
 
 /* The noise generator's state (ou_state_get), "" when no noise has been
  * drawn; restore it before the first step of a continued run.  MESH_OK,
  * MESH_EDOM (buffer too small), MESH_EINVAL, MESH_ENOMEM. */
 int act_rng_get(const act *a, char *buf, size_t n);
 int act_rng_set(act *a, const char *text);
+
+/* The junctions made by a T1 that are on the lowered threshold (t1_again;
+ * Euler schemes): their vertex pairs as text "a b a b ..." (malloc'd,
+ * "" for none), and back (MESH_EINVAL for a pair that is no junction).  A
+ * stopped run keeps them in its state line active_fresh.  MESH_ENOMEM. */
+int act_fresh_get(const act *a, char **text);
+int act_fresh_set(act *a, const char *text);
 
 /* Perturb the start state: every vertex coordinate and the tension of
  * every junction with active[j] != 0 (all when NULL) by eps times a
@@ -179,6 +222,9 @@ typedef struct {
 	double t_end;        /* run until this time */
 	double trace_every;  /* row interval (> 0) */
 	double every;        /* frame interval (0: no frames) */
+	const int *watch;    /* junctions to watch (act_watch; numbers of the
+	                        input mesh), nwatch of them */
+	int nwatch;
 	const char *name;    /* the input's name, for messages (NULL: "<mesh>") */
 } act_job_opts;
 

@@ -25,13 +25,17 @@ struct act {
 	double *jprev;          /* 2 na: active junction vectors, last step */
 	double snap_t;
 	unsigned long seed;
-	long nt1_base, refused_base;  /* counts of the integrators before d */
+	long nt1_base, refused_base, again_base;  /* counts of the integrators
+	                                             before d */
 	long snap_nt1;
 	int have_prev;
 	act_observer obs;
 	void *obs_data;
 	act_end why;
 	double *row_r, *row_dg, *row_grad;  /* act_row_at scratch */
+	int *watch;             /* act_watch: junctions, current numbers */
+	int nwatch;
+	double *wl, *wdg;       /* their lengths and tensions in a row */
 	energy_ws *row_ws;
 	/* BDF */
 	bdf *b;

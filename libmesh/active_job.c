@@ -110,13 +110,17 @@ static int record_state(mesh *m, const act *a, act_end why)
 		mesh_state_clear(m);
 		return MESH_OK;
 	}
-	char buf[64], rs[OU_STATE_LEN];
+	char buf[64], rs[OU_STATE_LEN], *fresh = NULL;
 	snprintf(buf, sizeof buf, "%.17g", act_time(a));
+	int st = MESH_OK;
 	if (mesh_state_set(m, "active_t", buf) != MESH_OK ||
 	    act_rng_get(a, rs, sizeof rs) != MESH_OK ||
-	    (rs[0] && mesh_state_set(m, "active_rng", rs) != MESH_OK))
-		return MESH_ENOMEM;
-	return MESH_OK;
+	    (rs[0] && mesh_state_set(m, "active_rng", rs) != MESH_OK) ||
+	    act_fresh_get(a, &fresh) != MESH_OK ||
+	    (fresh[0] && mesh_state_set(m, "active_fresh", fresh) != MESH_OK))
+		st = MESH_ENOMEM;
+	free(fresh);
+	return st;
 }
 
 int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, int j,
@@ -143,6 +147,17 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 		goto out;
 	if (rng[0] && act_rng_set(u.a, rng) != MESH_OK) {
 		st = mesh_error_set(err, 0, MESH_EINVAL, "bad random generator state in the mesh");
+		goto out;
+	}
+	if (jo->nwatch > 0 && (st = act_watch(u.a, jo->watch, jo->nwatch)) != MESH_OK) {
+		st = st == MESH_ENOMEM ? mesh_error_set(err, 0, st, "out of memory") :
+			mesh_error_set(err, 0, st, "a watched junction number is not below %d", m->nj);
+		goto out;
+	}
+	if (mesh_state_get(m, "active_t") &&
+	    (st = act_fresh_set(u.a, mesh_state_get(m, "active_fresh"))) != MESH_OK) {
+		st = st == MESH_ENOMEM ? mesh_error_set(err, 0, st, "out of memory") :
+			mesh_error_set(err, 0, st, "bad state active_fresh in the mesh");
 		goto out;
 	}
 	if (u.io->begin)
@@ -189,7 +204,7 @@ int act_note(char *buf, size_t n, const act_opts *o, const act_result *r)
 		len += snprintf(buf + len, n > (size_t)len ? n - len : 0, ", t_c %.10g", r->t_c);
 	len += snprintf(buf + len, n > (size_t)len ? n - len : 0,
 			"; %s, %ld steps, %ld force evaluations, %ld T1s",
-			o->scheme == ACT_BDF ? "bdf" : "euler", r->c.nstep, r->c.nfev, r->c.nt1);
+			act_scheme_name(o->scheme), r->c.nstep, r->c.nfev, r->c.nt1);
 	if (o->scheme == ACT_BDF)
 		len += snprintf(buf + len, n > (size_t)len ? n - len : 0,
 				", %ld factorizations, %ld GMRES iterations", r->c.nsetup, r->c.nlin);

@@ -511,11 +511,12 @@ static int bdf_t1s(act *a, mesh_error *err)
 			continue;
 		}
 		a->c.nt1++;
+		a->c.nt1_again += b->thr[best] == a->o.t1_again * a->o.t1_new;
 		if (a->hook)
 			a->hook(a->hook_data, a->t, best, lose, m->jc + 2 * best, lb);
-		/* a new junction is T1'd again if it shrinks to 0.9 of its new
-		 * length; the touched ones keep their thresholds */
-		b->thr[best] = 0.9 * a->o.t1_new;
+		/* a new junction is T1'd again if it shrinks to t1_again of its
+		 * new length; the touched ones keep their thresholds */
+		b->thr[best] = a->o.t1_again * a->o.t1_new;
 	}
 	/* junctions that grew back above the threshold get it again */
 	for (int j = 0; j < m->nj; j++)

@@ -38,6 +38,8 @@ struct dyn {
 	int *cand;            /* ncand junction ids */
 	int ncand;
 	unsigned char *incand;/* nj flags: j is in cand */
+	unsigned char *fresh; /* nj flags: made by a T1 and not yet longer than
+	                         t1_length */
 	int cand_ok;          /* cand is valid for the current options */
 	double margin, disp;
 	double ou_acc;        /* time since the last OU update (ou_dt > 0) */
@@ -64,7 +66,8 @@ void dyn_opts_init(dyn_opts *o)
 {
 	*o = (dyn_opts){ .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0.01,
 			 .t1_new = 1e-3, .tau = 1, .sigma = 0, .mode = DYN_OU,
-			 .gamma0 = 0, .l_stop = 1e-6, .ou_dt = 0, .settle = 0 };
+			 .gamma0 = 0, .l_stop = 1e-6, .ou_dt = 0, .settle = 0,
+			 .t1_again = 0, .split = 0 };
 }
 
 static int check_opts(const dyn_opts *o, mesh_error *err)
@@ -74,6 +77,8 @@ static int check_opts(const dyn_opts *o, mesh_error *err)
 	if (!(o->t1_length >= 0 && isfinite(o->t1_length)) ||
 	    (o->t1_length > 0 && !(o->t1_new > 0 && isfinite(o->t1_new))))
 		return mesh_error_set(err, 0, MESH_EDOM, "bad T1 lengths");
+	if (!(o->t1_again >= 0 && o->t1_again < 1))
+		return mesh_error_set(err, 0, MESH_EDOM, "t1_again must be in [0, 1)");
 	if (!(o->l_stop >= 0 && isfinite(o->l_stop)))
 		return mesh_error_set(err, 0, MESH_EDOM, "l_stop must be non-negative");
 	if (!(o->ou_dt >= 0 && isfinite(o->ou_dt)))
@@ -110,8 +115,9 @@ int dyn_alloc(mesh *m, const model *p, const dyn_opts *o, unsigned long seed,
 	d->ldot = malloc(nj * sizeof *d->ldot);
 	d->cand = malloc(nj * sizeof *d->cand);
 	d->incand = calloc(nj, 1);
+	d->fresh = calloc(nj, 1);
 	if (!d->ws || !d->f || !d->jd || !d->lprev || !d->l2 || !d->ldot || !d->cand ||
-	    !d->incand) {
+	    !d->incand || !d->fresh) {
 		dyn_free(d);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	}
@@ -132,6 +138,7 @@ void dyn_free(dyn *d)
 	free(d->ldot);
 	free(d->cand);
 	free(d->incand);
+	free(d->fresh);
 	free(d->active);
 	free(d);
 }
@@ -161,6 +168,16 @@ int dyn_set_active(dyn *d, const unsigned char *active)
 const unsigned char *dyn_active(const dyn *d)
 {
 	return d->active;
+}
+
+const unsigned char *dyn_fresh(const dyn *d)
+{
+	return d->fresh;
+}
+
+void dyn_set_fresh(dyn *d, const unsigned char *fresh)
+{
+	memcpy(d->fresh, fresh, (size_t)d->m->nj);
 }
 
 void dyn_counts_get(const dyn *d, dyn_counts *c)
@@ -248,40 +265,48 @@ static void cand_refresh(dyn *d, int first)
 			d->cand[d->ncand++] = j;
 		} else {
 			d->incand[j] = 0;
+			d->fresh[j] = 0;
 		}
 	}
 	d->disp = 0;
 	d->cand_ok = 1;
 }
 
-/* The candidates' lengths into l2; the smallest. */
+/* The candidates' lengths into l2; the smallest.  A junction made by a
+ * T1 that has grown past the threshold is an ordinary one again. */
 static double cand_lengths(dyn *d)
 {
 	const mesh *m = d->m;
 	const double *r = m->r;
+	const double thr = d->o.t1_length * d->o.t1_length;
 	double lmin = INFINITY;
 	for (int k = 0; k < d->ncand; k++) {
 		int j = d->cand[k];
 		double q = jlen2(m, r, j);
 		d->l2[j] = q;
+		if (q > thr)
+			d->fresh[j] = 0;
 		if (q < lmin)
 			lmin = q;
 	}
 	return lmin;
 }
 
-/* T1 every candidate below the threshold that is shrinking, shortest
+/* T1 every candidate below its threshold that is shrinking, shortest
  * first (ties: lowest index).  Leaves l2 current for the candidates. */
 static int do_t1s(dyn *d, mesh_error *err)
 {
 	mesh *m = d->m;
 	const double thr = d->o.t1_length * d->o.t1_length;
+	const double again = d->o.t1_again * d->o.t1_new * d->o.t1_again * d->o.t1_new;
 	for (;;) {
 		int best = -1;
 		double lbest = thr;
 		for (int k = 0; k < d->ncand; k++) {
 			int j = d->cand[k];
 			double l = d->l2[j];
+			if (d->fresh[j] && again > 0 && !(l < again))
+				continue;
 			if (l < d->lprev[j] && (l < lbest || (l == lbest && j < best))) {
 				best = j;
 				lbest = l;
@@ -302,6 +327,8 @@ static int do_t1s(dyn *d, mesh_error *err)
 			continue;
 		}
 		d->c.nt1++;
+		d->c.nt1_again += d->fresh[best];
+		d->fresh[best] = 1;
 #ifdef TIS_CHECK_INVARIANTS
 		if ((st = mesh_invariants(m, &e2)) != MESH_OK)
 			return mesh_error_set(err, 0, MESH_EDOM, "invariant broken after T1 %ld (junction "
@@ -550,6 +577,10 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				/* -dt (gamma0 + dg) (dl/dt)/l with dl/dt = -d.(f_b - f_a)/l:
 				 * one division */
 				double l = wj[3 * j + 2];
+				if (o.split) {
+					d->ldot[j] = l;   /* the length before the step */
+					continue;
+				}
 				double dot = wj[3 * j] * (f[2 * b] - f[2 * a]) +
 					     wj[3 * j + 1] * (f[2 * b + 1] - f[2 * a + 1]);
 				d->ldot[j] = dt * (o.gamma0 + dg[j]) * dot / (l * l);
@@ -576,7 +607,15 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 					d->ou_acc = 0;
 				}
 			}
-			if (feedback) {
+			if (feedback && o.split) {
+				/* (gamma0 + dg) l is what the feedback term keeps:
+				 * carried over the step's length change exactly */
+				const unsigned char *act = d->active;
+				for (int j = 0; j < nj; j++)
+					if (!act || act[j])
+						dg[j] = (o.gamma0 + dg[j]) * (d->ldot[j] / sqrt(jlen2(m, r, j))) -
+							o.gamma0;
+			} else if (feedback) {
 				const unsigned char *act = d->active;
 				for (int j = 0; j < nj; j++)
 					if (!act || act[j])

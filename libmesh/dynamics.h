@@ -81,6 +81,26 @@ typedef struct {
 	                      stage without noise or feedback, finish at the
 	                      minimum once max force and tension <= settle
 	                      (above) */
+	double t1_again;   /* 0 (default): a junction made by a T1 is T1'd
+	                      again as soon as it shrinks (the rule above).
+	                      In (0, 1): only once it is shorter than t1_again
+	                      t1_new (and shrinking), until it has been longer
+	                      than t1_length.  The default rule makes a
+	                      junction whose both resolutions shrink flip at
+	                      every step, a T1 count that grows as 1/dt_max
+	                      (studies/README.md, "T1 flip-flops"); this one
+	                      gives it a flip period of its own */
+	int split;         /* DYN_FEEDBACK.  0 (default, the paper's): the
+	                      feedback term by Euler, -dt (gamma0 + dg) ldot/l
+	                      with ldot from the step's forces.  1: the vertices
+	                      by Euler, then (gamma0 + dg) l, which the feedback
+	                      term conserves, carried exactly over the step's
+	                      length change: gamma0 + dg <- (gamma0 + dg)
+	                      l_before/l_after.  Both are first order; the
+	                      paper's overshoots (changes the sign of gamma0 +
+	                      dg) once a step changes a length by more than it
+	                      is long, which dr_max = t1_new = 1e-3 allows for a
+	                      junction just made by a T1 */
 } dyn_opts;
 
 void dyn_opts_init(dyn_opts *o);
@@ -90,6 +110,9 @@ typedef struct {
 	long nstep;        /* Euler steps (= force evaluations) */
 	long nt1;          /* T1s done */
 	long nt1_refused;  /* T1s not allowed */
+	long nt1_again;    /* T1s of a junction made by a T1 that had not yet
+	                      been longer than t1_length (flips back; not in
+	                      the state lines) */
 	long nsettle;      /* runs finished by settling */
 	double t_settled;  /* time covered by settling instead of steps */
 } dyn_counts;
@@ -115,6 +138,14 @@ dyn_opts *dyn_options(dyn *d);
 int dyn_set_active(dyn *d, const unsigned char *active);
 /* The current set in current junction numbering, or NULL for all. */
 const unsigned char *dyn_active(const dyn *d);
+
+/* The junctions made by a T1 that have not yet been longer than
+ * t1_length (nj flags, current numbering; with t1_again 0 only counted),
+ * and their restoration (a run continued after renumbering).  dyn's own
+ * state lines do not hold them: a run with t1_again > 0 that is stopped
+ * records them itself (tis-active does). */
+const unsigned char *dyn_fresh(const dyn *d);
+void dyn_set_fresh(dyn *d, const unsigned char *fresh);
 
 /* Called after every step (frames, logs, progress): watching a run must
  * not change it, so output happens at the first step at or after the time

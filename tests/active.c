@@ -211,6 +211,22 @@ static void convergence(void)
 	ok(r1 > 1.8 && r1 < 2.2 && r2 > 1.8 && r2 < 2.2,
 	   "euler converges to bdf at first order (error ratios %.3f, %.3f on halving dt)", r1, r2);
 	ok(err[2] < 1e-5, "euler at dt 2.5e-4 within 1e-5 of bdf (%.2g)", err[2]);
+	/* split differs from euler only in the tension update: first order
+	 * to the same reference */
+	o.scheme = ACT_SPLIT;
+	double es[3];
+	for (int i = 0; i < 3; i++) {
+		mesh *ms;
+		o.dt_max = 1e-3 / (1 << i);
+		act_free(run(m0, &ms, j, &o, 10, NULL, &why));
+		es[i] = maxdiff(ms, ref, j);
+		diag("split dt %g: max |state - bdf(1e-11)| = %.3g", o.dt_max, es[i]);
+		mesh_free(ms);
+	}
+	ok(es[0] / es[1] > 1.8 && es[0] / es[1] < 2.2 && es[1] / es[2] > 1.8 &&
+	   es[1] / es[2] < 2.2 && es[2] < 1e-5,
+	   "split converges to bdf at first order (error ratios %.3f, %.3f; %.2g at dt 2.5e-4)",
+	   es[0] / es[1], es[1] / es[2], es[2]);
 	/* bdf at looser tolerances approaches the tight one */
 	o.scheme = ACT_BDF;
 	double eb[3];
@@ -227,6 +243,148 @@ static void convergence(void)
 		mesh_free(e[i]);
 	mesh_free(ref);
 	mesh_free(m0);
+}
+
+/* Without turnover (tau huge: exp(-dt/tau) is 1) the feedback keeps
+ * (gamma0 + dg) l of the active junction exactly, down to the collapse:
+ * split holds it to rounding all the way to l = 1e-3, where a step moves
+ * a vertex by about the junction's length; the paper's Euler does not
+ * (its error is what this test tells apart). */
+static double invariant_drift(act_scheme sch, double *lend)
+{
+	mesh *m0 = honeycomb(6, 3.65);
+	act_perturb(m0, NULL, 1e-4, 7, NULL, 0);
+	m0->dg[0] = 0.2;   /* pulling: the junction shrinks and collapses */
+	act_opts o;
+	act_opts_init(&o);
+	o.scheme = sch;
+	o.tau = 1e300;
+	o.gamma0 = 1;
+	o.l_collapse = 1e-3;
+	double d[2], q0 = (o.gamma0 + m0->dg[0]) * junction_vec(m0, m0->r, 0, d);
+	act_end why;
+	mesh *mo;
+	act_free(run(m0, &mo, 0, &o, 2000, NULL, &why));
+	*lend = junction_vec(mo, mo->r, 0, d);
+	double q = (o.gamma0 + mo->dg[0]) * *lend;
+	mesh_free(mo);
+	mesh_free(m0);
+	return why == ACT_END_COLLAPSE ? fabs(q / q0 - 1) : NAN;
+}
+
+static void split_invariant(void)
+{
+	double ls, le;
+	double ds = invariant_drift(ACT_SPLIT, &ls), de = invariant_drift(ACT_EULER, &le);
+	diag("(gamma0 + dg) l, relative drift to the collapse: split %.3g (l %.3g), euler %.3g (l %.3g)",
+	     ds, ls, de, le);
+	ok(ds < 1e-10, "split keeps (gamma0 + dg) l to rounding down to l 1e-3 (%.2g)", ds);
+	ok(de > 1e-4, "the paper's euler does not (%.2g): the check tells them apart", de);
+}
+
+/* act_watch in a network run with T1s (6x6 honeycomb, every junction
+ * watched): a T1'd junction is the slot whose length at the step before
+ * is the T1's l_before, and that slot holds the new junction after it
+ * (made at t1_new with dg 0, one split step: (gamma0 + dg) l = gamma0
+ * t1_new); a slot without a T1 at
+ * its step moves at most 2 dr_max, also across the checkpoints where the
+ * junctions are renumbered (a wrong mapping there jumps). */
+typedef struct {
+	int nj, nev, nt1, bad_t1, bad_cont, nsteps, ncheck, nagain, bad_again;
+	double *prev, lbefore[64];
+	unsigned char *fresh;
+	int have_prev;
+} watchrec;
+
+static void watch_hook(void *data, double t, int j, const int lose[2], const int gain[2],
+                       double lbefore)
+{
+	watchrec *w = data;
+	(void)t; (void)j; (void)lose; (void)gain;
+	if (w->nev < 64)
+		w->lbefore[w->nev] = lbefore;
+	w->nev++;
+	w->nt1++;
+}
+
+static int watch_obs(act *a, void *data)
+{
+	watchrec *w = data;
+	act_row row;
+	act_row_at(a, act_time(a), -1, &row);
+	if (w->have_prev) {
+		for (int e = 0; e < w->nev && e < 64; e++) {
+			int hit = -1;
+			for (int k = 0; k < w->nj; k++)
+				if (w->prev[k] == w->lbefore[e])
+					hit = k;
+			/* made at t1_new with dg 0, then one split step:
+			 * (gamma0 + dg) l is gamma0 t1_new */
+			if (hit < 0 || !(fabs((0.5 + row.wdg[hit]) * row.wl[hit] - 0.5e-3) < 1e-12)) {
+				w->bad_t1++;
+				continue;
+			}
+			/* the re-arm rule: a junction made by a T1 goes again
+			 * only below t1_again t1_new */
+			if (w->fresh[hit]) {
+				w->nagain++;
+				w->bad_again += !(w->lbefore[e] < ACT_T1_AGAIN * 1e-3);
+			}
+			w->fresh[hit] = 2;
+		}
+		if (w->nev == 0)
+			for (int k = 0; k < w->nj; k++, w->ncheck++)
+				if (!(fabs(row.wl[k] - w->prev[k]) <= 2e-3 * (1 + 1e-9)))
+					w->bad_cont++;
+	}
+	for (int k = 0; k < w->nj; k++)
+		if (row.wl[k] > 0.01)
+			w->fresh[k] = 0;
+	memcpy(w->prev, row.wl, (size_t)w->nj * sizeof *w->prev);
+	w->have_prev = 1;
+	w->nev = 0;
+	w->nsteps++;
+	return 0;
+}
+
+static void watch(void)
+{
+	mesh *m = honeycomb(6, 3.65);
+	model p = model_from_mesh(m);
+	act_perturb(m, NULL, 1e-4, 1, NULL, 0);
+	act_opts o;
+	act_opts_init(&o);
+	o.scheme = ACT_SPLIT;
+	o.tau = 2;
+	o.gamma0 = 0.5;
+	o.t1_length = 0.01;
+	act *a;
+	mesh_error err;
+	watchrec w = { .nj = m->nj };
+	w.prev = malloc((size_t)m->nj * sizeof *w.prev);
+	w.fresh = calloc((size_t)m->nj, 1);
+	int *all = malloc((size_t)m->nj * sizeof *all);
+	for (int k = 0; k < m->nj; k++)
+		all[k] = k;
+	act_end why = ACT_END_NONFINITE;
+	int st = act_alloc(m, &p, &o, NULL, 0, 1, &a, &err);
+	if (st == MESH_OK && act_watch(a, all, m->nj) == MESH_OK) {
+		act_set_t1_hook(a, watch_hook, &w);
+		act_run(a, 8, NULL, watch_obs, &w, &why, &err);
+	}
+	diag("watch: %d T1s over %d steps, %d continuity checks", w.nt1, w.nsteps, w.ncheck);
+	ok(why == ACT_END_TIME && w.nt1 >= 5 && w.bad_t1 == 0 && w.bad_cont == 0 && w.ncheck > 0,
+	   "watched junctions keep their identity through T1s and renumbering (%d T1s, %d bad, "
+	   "%d jumps)", w.nt1, w.bad_t1, w.bad_cont);
+	ok(w.nagain > 0 && w.bad_again == 0, "a junction made by a T1 is T1'd again only below %g "
+	   "t1_new (%d such T1s, %d not)", ACT_T1_AGAIN, w.nagain, w.bad_again);
+	int bad = -1;
+	ok(act_watch(a, &bad, 1) == MESH_EDOM, "act_watch refuses a junction number out of range");
+	act_free(a);
+	free(all);
+	free(w.prev);
+	free(w.fresh);
+	mesh_free(m);
 }
 
 /* Growth rate and angular frequency of x(t) = l - l0 from its successive
@@ -556,10 +714,12 @@ static void job(void)
 
 int main(void)
 {
-	tap_plan(4 + 5 + 5 + 2 + 1 + 2 + 4);
+	tap_plan(4 + 5 + 6 + 2 + 3 + 2 + 1 + 2 + 4);
 	job();
 	nonfinite();
 	convergence();
+	split_invariant();
+	watch();
 	linear();
 	direct();
 	cycle();

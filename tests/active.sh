@@ -3,7 +3,7 @@
 # several junctions, interruption and continuation.  Short runs on 6x6.
 . "$(dirname "$0")/lib.sh"
 
-plan 44
+plan 52
 
 tis-hex 6 6 --p0 3.65 >"$T/hex.mesh" || exit 1
 H="$T/hex.mesh"
@@ -75,7 +75,25 @@ ok "--list K gives the run of --index K" sh -c "grep -v '^#' '$T/l1.tsv' | tail 
 # network: T1s on, events logged
 tis-active --network --rate 0.5 --gamma0 0.5 --time 8 --trace "$T/net.tsv" --events "$T/ev.tsv" "$H" >"$T/net.mesh"
 ok "network trace columns" sh -c "grep -v '^#' '$T/net.tsv' | head -1 | grep -q '^t	f6	W	nt1	dg_mean	dg_sd'"
+a=$(tail -1 "$T/net.tsv" | cut -f8)
+r=$(awk -F'\t' '!/^#/ && $1 != "t" { if ($2 in f) n++; f[$2] = 1 } END { print n + 0 }' "$T/ev.tsv")
+ok "network: nt1_again ($a) counts some of the T1s that re-T1 a junction ($r)" sh -c "[ $a -gt 0 ] && [ $a -le $r ]"
 ok "network: T1s happen and each is an event row" sh -c "n=\$(grep -v '^#' '$T/ev.tsv' | tail -n +2 | wc -l); t=\$(tail -1 '$T/net.tsv' | cut -f4); [ \"\$n\" -gt 0 ] && [ \"\$n\" -eq \"\$t\" ]"
+# --watch: a junction's length and tension in the network trace; the
+# first T1'd junction is at most t1_new long right after its T1 (a run
+# to just after it; --trace-every below the step: a row at every step)
+tj=$(grep -v '^#' "$T/ev.tsv" | awk 'NR == 2 { print $1 + 1e-5 }')
+jj=$(grep -v '^#' "$T/ev.tsv" | awk 'NR == 2 { print $2 }')
+tis-active --network --rate 0.5 --gamma0 0.5 --time "$tj" --watch "$jj,0" --trace-every 1e-9 \
+	--trace "$T/w.tsv" "$H" >/dev/null
+ok "--watch: columns l_K, dg_K for each junction" sh -c "grep -v '^#' '$T/w.tsv' | head -1 | grep -q '	l_${jj}	dg_${jj}	l_0	dg_0\$'"
+ok "--watch: the T1'd junction is the new one at the end (l < t1_new, dg near 0)" sh -c \
+	"tail -1 '$T/w.tsv' | awk -F'\t' '{ exit !(\$9 > 0 && \$9 <= 0.001 && \$10 < 0.2 && \$10 > -0.2) }'"
+fails_with 2 "--watch without --network" tis-active --index 0 --watch 1 "$H"
+fails_with 2 "--watch with a bad list" tis-active --network --watch 1,x "$H"
+fails_with 1 "--watch with a junction number past the last" tis-active --network --time 0.01 --watch 100000 "$H"
+fails_with 2 "--t1-again 1" tis-active --network --t1-again 1 "$H"
+fails_with 2 "--scheme unknown" tis-active --network --scheme rk4 "$H"
 
 # SIGTERM: a valid mesh, exit 3, and continuing gives the uninterrupted
 # state.  The signal goes once the trace shows the run is under way.

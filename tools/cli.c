@@ -369,6 +369,24 @@ void cli_catch_signals(void)
 	sigaction(SIGTERM, &sa, NULL);
 }
 
+int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n)
+{
+	char *buf = strdup(arg), *save = NULL;
+	int cap = 1;
+	for (const char *s = arg; *s; s++)
+		cap += *s == ',';
+	int *v = malloc((size_t)cap * sizeof *v);
+	if (buf == NULL || v == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	*n = 0;
+	for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save))
+		v[(*n)++] = (int)cli_long(opt, t, lo, hi);
+	if (*n == 0)
+		cli_usage_error("%s: a list k1,k2,..., not '%s'", opt, arg);
+	free(buf);
+	return v;
+}
+
 double *cli_double_list(const char *opt, const char *arg, int *n)
 {
 	char *buf = strdup(arg);

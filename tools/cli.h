@@ -49,6 +49,10 @@ void cli_box(const char *ax, const char *ay, double *lx, double *ly);
  * otherwise. */
 double *cli_double_list(const char *opt, const char *arg, int *n);
 
+/* "k1,k2,...": integers in [lo, hi] (cli_long each); malloc'd, *n of them.
+ * Usage error otherwise. */
+int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n);
+
 /* The two vertex ids of an option like --junction A B inside a getopt_long
  * loop: A is optarg, B the next argument (optind moves past it). */
 void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b);

@@ -1,6 +1,7 @@
 /* tis-active - active junction dynamics (paper eqs. 1-2): one junction,
  * several one after another, or every junction of a tissue. */
 #include <getopt.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,9 +18,9 @@
 static const char usage[] =
 	"(--junction A B | --index K | --random K | --list FILE | --network)\n"
 	"       [--rate R | --tau T] [--gamma0 G] [--sigma S] [--p0 X] [--ka Y] [--time T]\n"
-	"       [--perturb EPS] [--seed N] [--scheme bdf|euler] [--rtol X] [--checkpoint T]\n"
-	"       [--dt DT] [--dr DR] [--t1 L] [--t1-new L] [--collapse L] [--trace FILE]\n"
-	"       [--trace-every T] [--events FILE] [--every T] [MESH]";
+	"       [--perturb EPS] [--seed N] [--scheme bdf|euler|split] [--rtol X] [--checkpoint T]\n"
+	"       [--dt DT] [--dr DR] [--t1 L] [--t1-new L] [--t1-again F] [--collapse L] [--trace FILE]\n"
+	"       [--trace-every T] [--watch K,..] [--events FILE] [--every T] [MESH]";
 static const char help[] =
 	"Integrate active junction tensions (paper eq. 1) with the overdamped vertex\n"
 	"dynamics (eq. 2) from a force-free mesh plus a small random perturbation of\n"
@@ -40,8 +41,9 @@ static const char help[] =
 	"  --perturb EPS      s.d. of the start perturbation (default " STR(ACT_PERTURB_DEFAULT) ";\n"
 	"                     0 for a mesh that carries tensions)\n"
 	"  --seed N           random seed (default 1)\n"
-	"  --scheme S         bdf (default) or euler (the paper's; default with noise\n"
-	"                     and in network mode)\n"
+	"  --scheme S         bdf (default), euler (the paper's; default with noise)\n"
+	"                     or split (euler, tension feedback exact per step;\n"
+	"                     default in network mode)\n"
 	"  --rtol X           bdf tolerance (default 1e-9)\n"
 	"  --checkpoint T     bdf restarts at multiples of T, where a stop (SIGTERM)\n"
 	"                     waits for; continuing is then bit-exact (default "
@@ -49,11 +51,15 @@ static const char help[] =
 	"  --dt DT, --dr DR   euler step limits (default 0.001 each)\n"
 	"  --t1 L             T1 threshold (network default 0.01, else 0: off)\n"
 	"  --t1-new L         length of a junction made by a T1 (default 0.001)\n"
+	"  --t1-again F       it is T1'd again below F times that (default 0.9;\n"
+	"                     euler 0: as soon as it shrinks)\n"
 	"  --collapse L       T1s off: stop when an active junction is this short\n"
 	"                     (default 0.001)\n"
 	"  --trace FILE       TSV time series (several junctions: %d in FILE is the\n"
 	"                     junction index)\n"
 	"  --trace-every T    trace interval (default 1)\n"
+	"  --watch K,K,...    network: junctions K (input numbers) in the trace\n"
+	"                     (columns l_K, dg_K)\n"
 	"  --events FILE      TSV of every T1\n"
 	"  --every T          also write the mesh every T time units (one junction)\n"
 	"  -h, --help         this help\n"
@@ -68,6 +74,7 @@ struct opts {
 	double p0, ka, time, perturb, every, trace_every;
 	unsigned long seed;
 	const char *trace, *events, *input;
+	int *watch, nwatch;
 };
 
 static void set_sel(struct opts *o, int sel)
@@ -88,7 +95,7 @@ static struct opts parse(int argc, char **argv)
 {
 	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
 	       O_SIGMA, O_P0, O_KA, O_TIME, O_PERTURB, O_SEED, O_SCHEME, O_RTOL, O_CHECKPOINT, O_DT, O_DR,
-	       O_T1, O_T1NEW, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_EVENTS, O_EVERY, O_VERSION };
+	       O_T1, O_T1NEW, O_T1AGAIN, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_WATCH, O_EVENTS, O_EVERY, O_VERSION };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "index", required_argument, NULL, O_INDEX },
@@ -111,9 +118,11 @@ static struct opts parse(int argc, char **argv)
 		{ "dr", required_argument, NULL, O_DR },
 		{ "t1", required_argument, NULL, O_T1 },
 		{ "t1-new", required_argument, NULL, O_T1NEW },
+		{ "t1-again", required_argument, NULL, O_T1AGAIN },
 		{ "collapse", required_argument, NULL, O_COLLAPSE },
 		{ "trace", required_argument, NULL, O_TRACE },
 		{ "trace-every", required_argument, NULL, O_TRACEEVERY },
+		{ "watch", required_argument, NULL, O_WATCH },
 		{ "events", required_argument, NULL, O_EVENTS },
 		{ "every", required_argument, NULL, O_EVERY },
 		{ "help", no_argument, NULL, 'h' },
@@ -146,12 +155,8 @@ static struct opts parse(int argc, char **argv)
 		case O_PERTURB: o.perturb = cli_double_range("--perturb", optarg, 0, 0.1); o.has_perturb = 1; break;
 		case O_SEED: o.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
 		case O_SCHEME:
-			if (strcmp(optarg, "bdf") == 0)
-				o.a.scheme = ACT_BDF;
-			else if (strcmp(optarg, "euler") == 0)
-				o.a.scheme = ACT_EULER;
-			else
-				cli_usage_error("--scheme: bdf or euler, not '%s'", optarg);
+			if (act_scheme_parse(optarg, &o.a.scheme) != MESH_OK)
+				cli_usage_error("--scheme: bdf, euler or split, not '%s'", optarg);
 			o.has_scheme = 1;
 			break;
 		case O_RTOL: o.a.rtol = cli_double_range("--rtol", optarg, 1e-14, 0.1); break;
@@ -160,10 +165,12 @@ static struct opts parse(int argc, char **argv)
 		case O_DR: o.a.dr_max = cli_double_range("--dr", optarg, 1e-9, 0.1); break;
 		case O_T1: o.a.t1_length = cli_double_range("--t1", optarg, 0, 0.5); o.has_t1 = 1; break;
 		case O_T1NEW: o.a.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
+		case O_T1AGAIN: o.a.t1_again = cli_double_range("--t1-again", optarg, 0, 0.999); break;
 		case O_COLLAPSE: o.a.l_collapse = cli_double_range("--collapse", optarg, 1e-9, 0.5); break;
 		case O_TRACE: o.trace = optarg; break;
 		case O_TRACEEVERY: o.trace_every = cli_double_range("--trace-every", optarg, 1e-9, 1e12); break;
 		case O_EVENTS: o.events = optarg; break;
+		case O_WATCH: o.watch = cli_int_list("--watch", optarg, 0, INT_MAX, &o.nwatch); break;
 		case O_EVERY: o.every = cli_double_range("--every", optarg, 1e-9, 1e12); break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
@@ -181,10 +188,12 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("--t1-new must be shorter than the T1 threshold");
 	/* bdf restarts at every T1, which a network does often (bench/RESULTS.md) */
 	if ((o.a.sigma > 0 || o.sel == SEL_NET) && !o.has_scheme)
-		o.a.scheme = ACT_EULER;
+		o.a.scheme = o.sel == SEL_NET ? ACT_SPLIT : ACT_EULER;
 	if (o.a.sigma > 0 && o.a.scheme == ACT_BDF)
 		cli_usage_error("--scheme bdf has no noise; use --scheme euler with --sigma");
 	int multi = o.sel == SEL_RANDOM || o.sel == SEL_LIST;
+	if (o.nwatch && o.sel != SEL_NET)
+		cli_usage_error("--watch is for --network");
 	if (multi && o.every > 0)
 		cli_usage_error("--every writes frames of one run: not with --random or --list");
 	if (multi && o.trace && !one_d(o.trace))
@@ -231,8 +240,12 @@ static void on_row(void *data, const act_row *w)
 		fprintf(u->trace, "%.10g\t%.12g\t%.12g\t%.12g\t%.12g\n", w->t, w->l, w->dg, w->ldot,
 			w->W);
 	else
-		fprintf(u->trace, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g\n", w->t, w->f6, w->W,
-			w->nt1, w->dg_mean, w->dg_sd, w->lmin);
+		fprintf(u->trace, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g\t%ld", w->t, w->f6,
+			w->W, w->nt1, w->dg_mean, w->dg_sd, w->lmin, w->nt1_again);
+	for (int k = 0; k < w->nwatch; k++)
+		fprintf(u->trace, "\t%.10g\t%.10g", w->wl[k], w->wdg[k]);
+	if (u->j < 0)
+		fputc('\n', u->trace);
 	fflush(u->trace);   /* a long run can be watched with tail -f */
 }
 
@@ -280,8 +293,11 @@ static void on_begin(void *data, act *a, mesh *m)
 	struct out *u = data;
 	if (u->o->trace) {
 		u->trace = open_out(u->o->trace, u->jfile);
-		header(u->trace, m, u->j >= 0 ? "t\tl\tdg\tldot\tW" :
-		       "t\tf6\tW\tnt1\tdg_mean\tdg_sd\tlmin");
+		char cols[4096] = "t\tf6\tW\tnt1\tdg_mean\tdg_sd\tlmin\tnt1_again";
+		for (int k = 0, n = (int)strlen(cols); k < u->o->nwatch && n < 4000; k++)
+			n += snprintf(cols + n, sizeof cols - n, "\tl_%d\tdg_%d", u->o->watch[k],
+			              u->o->watch[k]);
+		header(u->trace, m, u->j >= 0 ? "t\tl\tdg\tldot\tW" : cols);
 	}
 	if (u->o->events) {
 		u->events = open_out(u->o->events, u->jfile);
@@ -303,7 +319,8 @@ static act_result run(const struct opts *o, mesh *m, const model *p, int j, int 
 	act_io io = { on_begin, on_row, o->every > 0 ? on_frame : NULL, on_step, &u };
 	act_job_opts jo = { .perturb = o->has_perturb ? o->perturb : -1, .seed = o->seed,
 			    .t_end = o->time, .trace_every = o->trace_every, .every = o->every,
-			    .name = cli_input_name(o->input) };
+			    .name = cli_input_name(o->input), .watch = o->watch,
+			    .nwatch = o->nwatch };
 	act_result r;
 	mesh_error err;
 	if (act_job(m, p, &o->a, &jo, j, &cli_stop, &io, &r, &err) != MESH_OK)
