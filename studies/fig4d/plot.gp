@@ -7,9 +7,10 @@ set datafile separator "\t"
 set key autotitle columnhead
 set xlabel "t"
 set ylabel "1 - f_6"
-set yrange [0.1:0.7]
+set yrange [0.02:0.75]
+set xrange [0:200]
 set logscale y
-set ytics (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7)
+set ytics (0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7)
 f(m, s, k) = (strcol("mode") eq m && column("sigma") == s && column("seed") == k) ? 1 - column("f6") : NaN
 set multiplot layout 1,2 title "(1/{/Symbol t}_m, p_0, {/Symbol g}_0) = (19.05, 3.65, 3.02), disordered-1, seed 1"
 set title "A: OU noise alone"
