@@ -15,28 +15,8 @@
 #include "lattice.h"
 #include "minimize.h"
 #include "sparse.h"
+#include "sparse_util.h"
 #include "tap.h"
-
-static void perturb(mesh *m, double amp, unsigned seed)
-{
-	for (int i = 0; i < 2 * m->nv; i++) {
-		seed = seed * 1103515245u + 12345u;
-		m->r[i] += amp * (((seed >> 8) & 0xffff) / 32768.0 - 1.0);
-	}
-	mesh_wrap(m);
-}
-
-static double *dense_of(const spsym *a)
-{
-	int n = a->n;
-	double *d = calloc((size_t)n * n, sizeof *d);
-	for (int j = 0; j < n; j++)
-		for (int p = a->colp[j]; p < a->colp[j + 1]; p++) {
-			int i = a->rowi[p];
-			d[(size_t)i * n + j] = d[(size_t)j * n + i] = a->val[p];
-		}
-	return d;
-}
 
 /* Largest |sparse - dense| relative to the largest entry. */
 static double hessian_mismatch(const mesh *m, const model *p)
@@ -46,7 +26,7 @@ static double hessian_mismatch(const mesh *m, const model *p)
 	mesh_hessian(m, m->r, p, h);
 	hessian_sparse *hs = hessian_sparse_alloc(m);
 	mesh_hessian_sparse(m, m->r, p, hs);
-	double *d = dense_of(hs->h), e = 0, hm = 0;
+	double *d = dense_of(hs->h, 0), e = 0, hm = 0;
 	for (size_t i = 0; i < (size_t)n * n; i++) {
 		e = fmax(e, fabs(d[i] - h[i]));
 		hm = fmax(hm, fabs(h[i]));
@@ -115,7 +95,7 @@ int main(void)
 		   ch ? spchol_nnz(ch) : -1L, hs->h->nnz);
 		const double shift = 0.5;
 		ok(spchol_factor(ch, hs->h, shift) == MESH_OK, "%s: H + 0.5 I factors", kn);
-		double *d = dense_of(hs->h), *b = malloc(n * sizeof *b), *x = malloc(n * sizeof *x);
+		double *d = dense_of(hs->h, 0), *b = malloc(n * sizeof *b), *x = malloc(n * sizeof *x);
 		for (int i = 0; i < n; i++) {
 			d[(size_t)i * n + i] += shift;
 			b[i] = sin(1.3 * i + 0.2);

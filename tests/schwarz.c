@@ -17,30 +17,8 @@
 #include "minimize.h"
 #include "precond.h"
 #include "sparse.h"
+#include "sparse_util.h"
 #include "tap.h"
-
-static void perturb(mesh *m, double amp, unsigned seed)
-{
-	for (int i = 0; i < 2 * m->nv; i++) {
-		seed = seed * 1103515245u + 12345u;
-		m->r[i] += amp * (((seed >> 8) & 0xffff) / 32768.0 - 1.0);
-	}
-	mesh_wrap(m);
-}
-
-static double *dense_of(const spsym *a, double shift)
-{
-	int n = a->n;
-	double *d = calloc((size_t)n * n, sizeof *d);
-	for (int j = 0; j < n; j++)
-		for (int p = a->colp[j]; p < a->colp[j + 1]; p++) {
-			int i = a->rowi[p];
-			d[(size_t)i * n + j] = d[(size_t)j * n + i] = a->val[p];
-		}
-	for (int i = 0; i < n; i++)
-		d[(size_t)i * n + i] += shift;
-	return d;
-}
 
 /* y = (sub-matrix of d on the index set v)^{-1} (b on v), dense. */
 static void dense_subsolve(const double *d, int n, const int *v, int nb, const double *b, double *y)
