@@ -471,29 +471,28 @@ static int euler_obs(dyn *d, void *data)
  * from the cells), so that a run continued from that mesh has the same
  * junction numbers, and so the same noise per junction and the same T1
  * order; the active set and tensions follow their vertex pairs. */
+/* The vertex pairs of junctions j[0..n), to find them again after a
+ * renumbering; NULL when out of memory. */
+static int *pairs_of(const mesh *m, const int *j, int n)
+{
+	int *p = malloc(2 * (size_t)(n ? n : 1) * sizeof *p);
+	for (int k = 0; p && k < n; k++) {
+		p[2 * k] = m->jv[2 * j[k]];
+		p[2 * k + 1] = m->jv[2 * j[k] + 1];
+	}
+	return p;
+}
+
 static int canonical(act *a, mesh_error *err)
 {
 	mesh *m = a->m;
-	int *pairs = malloc(2 * (size_t)(a->na ? a->na : 1) * sizeof *pairs);
+	/* the active and the watched junctions by their vertex pairs */
+	int *pairs = pairs_of(m, a->aj, a->na), *wp = pairs_of(m, a->watch, a->nwatch);
 	char *fresh = NULL;
-	if (pairs == NULL || act_fresh_get(a, &fresh) != MESH_OK) {
+	if (pairs == NULL || wp == NULL || act_fresh_get(a, &fresh) != MESH_OK) {
 		free(pairs);
+		free(wp);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	}
-	for (int k = 0; k < a->na; k++) {
-		pairs[2 * k] = m->jv[2 * a->aj[k]];
-		pairs[2 * k + 1] = m->jv[2 * a->aj[k] + 1];
-	}
-	/* the watched junctions by their vertex pairs */
-	int *wp = malloc(2 * (size_t)(a->nwatch ? a->nwatch : 1) * sizeof *wp);
-	if (wp == NULL) {
-		free(pairs);
-		free(fresh);
-		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	}
-	for (int k = 0; k < a->nwatch; k++) {
-		wp[2 * k] = m->jv[2 * a->watch[k]];
-		wp[2 * k + 1] = m->jv[2 * a->watch[k] + 1];
 	}
 	/* on a copy first: a tissue that became invalid (a cell turned
 	 * inside out) is reported, and m keeps its working arrays */

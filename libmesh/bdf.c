@@ -454,12 +454,7 @@ void bdf_free(bdf *b)
 	energy_ws_free(b->ws);
 	hessian_sparse_free(b->hs);
 	spchol_free(b->chol);
-	if (b->amat) {
-		free(b->amat->colp);
-		free(b->amat->rowi);
-		free(b->amat->val);
-		free(b->amat);
-	}
+	spsym_free(b->amat);
 	free(b->kval);
 	free(b->cvec);
 	free(b->gvec);
