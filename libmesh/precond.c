@@ -412,24 +412,14 @@ int pcschwarz_factor(pcschwarz *s, const spsym *a, double shift)
 	return MESH_OK;
 }
 
+static int factor_fn(void *s, const spsym *a, double shift)
+{
+	return pcschwarz_factor(s, a, shift);
+}
+
 int pcschwarz_precond(pcschwarz *s, const spsym *a, double *shift)
 {
-	double dmax = spsym_diagmax(a);
-	if (!(dmax > 0) || !isfinite(dmax))
-		return MESH_EDOM;
-	double sh = 1e-9 * dmax;
-	if (isfinite(*shift) && *shift / 100 > sh)
-		sh = *shift / 100;
-	for (int t = 0; t < 30; t++, sh *= 10) {
-		int st = pcschwarz_factor(s, a, sh);
-		if (st == MESH_OK) {
-			*shift = sh;
-			return MESH_OK;
-		}
-		if (st == MESH_ENOMEM)
-			return st;
-	}
-	return MESH_EDOM;
+	return spsym_precond_ladder(factor_fn, s, a, shift);
 }
 
 int pcschwarz_solve(pcschwarz *s, const double *b, double *x)

@@ -517,13 +517,13 @@ void spchol_lean(spchol *c)
 	cholmod_free_sparse(&c->A, &c->cm);
 }
 
-int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift)
+int spsym_ladder(spsym_factor_fn f, void *obj, const spsym *a, double smin, double *shift)
 {
 	if (!(smin > 0) || !isfinite(smin))
 		return MESH_EDOM;
 	double s = *shift > smin && isfinite(*shift) ? *shift : smin;
 	for (int t = 0; t < 30; t++, s *= 10) {
-		int st = spchol_factor(c, a, s);
+		int st = f(obj, a, s);
 		if (st == MESH_OK) {
 			*shift = s;
 			return MESH_OK;
@@ -534,17 +534,31 @@ int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift)
 	return MESH_EDOM;
 }
 
-int spchol_precond(spchol *c, const spsym *a, double *shift)
+int spsym_precond_ladder(spsym_factor_fn f, void *obj, const spsym *a, double *shift)
 {
 	double dmax = spsym_diagmax(a);
 	if (!(dmax > 0) || !isfinite(dmax))
 		return MESH_EDOM;
 	double s = isfinite(*shift) ? *shift / 100 : 0;
-	int st = spchol_factor_shifted(c, a, 1e-9 * dmax, &s);
-	if (st != MESH_OK)
-		return st;
-	*shift = s;
-	return MESH_OK;
+	int st = spsym_ladder(f, obj, a, 1e-9 * dmax, &s);
+	if (st == MESH_OK)
+		*shift = s;
+	return st;
+}
+
+static int factor_fn(void *c, const spsym *a, double shift)
+{
+	return spchol_factor(c, a, shift);
+}
+
+int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift)
+{
+	return spsym_ladder(factor_fn, c, a, smin, shift);
+}
+
+int spchol_precond(spchol *c, const spsym *a, double *shift)
+{
+	return spsym_precond_ladder(factor_fn, c, a, shift);
 }
 
 /* The solve runs in single precision on four lanes (GCC/Clang vector

@@ -80,6 +80,17 @@ int spchol_factor(spchol *c, const spsym *a, double shift);
  * MESH_EDOM, or MESH_ENOMEM (no further tries). */
 int spchol_factor_shifted(spchol *c, const spsym *a, double smin, double *shift);
 
+/* The shift ladders of spchol_factor_shifted and spchol_precond for any
+ * factorization: f(obj, a, s) factors A + s I into obj and returns
+ * MESH_OK, MESH_ENOMEM, or another status for "not positive definite at
+ * s".  spsym_ladder tries s0 = max(smin, *shift), 10 s0, ... (30 tries);
+ * spsym_precond_ladder starts it at smin = 1e-9 of A's largest diagonal
+ * entry with the warm start *shift / 100 (*shift may be INFINITY: none).
+ * *shift gets the s that worked; MESH_EDOM when none did. */
+typedef int (*spsym_factor_fn)(void *obj, const spsym *a, double shift);
+int spsym_ladder(spsym_factor_fn f, void *obj, const spsym *a, double smin, double *shift);
+int spsym_precond_ladder(spsym_factor_fn f, void *obj, const spsym *a, double *shift);
+
 /* The preconditioner of Newton-CG: A + s I with the smallest s from the
  * sequence above, smin = 1e-9 of A's largest diagonal entry and the warm
  * start *shift / 100 (0 for none); *shift gets s.  At a stable minimum of
