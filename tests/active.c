@@ -170,6 +170,18 @@ static act *run(const mesh *m0, mesh **mo, int j, const act_opts *o, double t_en
 	return a;
 }
 
+/* The BDF options of a run: turnover time tau, ambient tension g0,
+ * tolerance rtol, the rest the defaults. */
+static act_opts bdf_opts(double tau, double g0, double rtol)
+{
+	act_opts o;
+	act_opts_init(&o);
+	o.tau = tau;
+	o.gamma0 = g0;
+	o.rtol = rtol;
+	return o;
+}
+
 static double maxdiff(const mesh *a, const mesh *b, int j)
 {
 	double d = 0;
@@ -190,11 +202,7 @@ static void convergence(void)
 		if (k != j)
 			m0->dg[k] = 0;
 	m0->dg[j] = 0.02;
-	act_opts o;
-	act_opts_init(&o);
-	o.tau = 2;
-	o.gamma0 = 0.3;
-	o.rtol = 1e-11;
+	act_opts o = bdf_opts(2, 0.3, 1e-11);
 	act_end why;
 	mesh *ref, *e[3];
 	act_free(run(m0, &ref, j, &o, 10, NULL, &why));
@@ -438,11 +446,7 @@ static void linear(void)
 		double g0 = gstar * (side ? 1.05 : 0.95);
 		gsl_complex lam = leading(m0, &p, j, tau, g0, v);
 		mesh *m = along(m0, v, j);
-		act_opts o;
-		act_opts_init(&o);
-		o.tau = tau;
-		o.gamma0 = g0;
-		o.rtol = 1e-10;
+		act_opts o = bdf_opts(tau, g0, 1e-10);
 		double T = 2 * TWO_PI_HALF / fabs(GSL_IMAG(lam));
 		rec q = { .j = j, .dt = T / 400 };
 		act_end why;
@@ -478,11 +482,7 @@ static void collapse(void)
 	for (int i = 0; i < 5; i++) {
 		mesh *m0 = honeycomb(6, pts[i][0]);
 		act_perturb(m0, NULL, 1e-4, 7 + i, NULL, 0);
-		act_opts o;
-		act_opts_init(&o);
-		o.tau = 1 / pts[i][1];
-		o.gamma0 = pts[i][2];
-		o.rtol = 1e-9;
+		act_opts o = bdf_opts(1 / pts[i][1], pts[i][2], 1e-9);
 		o.l_collapse = 1e-4;
 		rec q = { .j = 0, .every_step = 1 };
 		act_end why;
@@ -529,11 +529,7 @@ static void direct(void)
 	gsl_complex lam = leading(m0, &p, j, tau, g0, v);
 	diag("p0 3.70, rate 0.01, gamma0 0.01: leading eigenvalue %.6g %+.3gi", GSL_REAL(lam), GSL_IMAG(lam));
 	mesh *m = along(m0, v, j);
-	act_opts o;
-	act_opts_init(&o);
-	o.tau = tau;
-	o.gamma0 = g0;
-	o.rtol = 1e-10;
+	act_opts o = bdf_opts(tau, g0, 1e-10);
 	double T = 3 / fabs(GSL_REAL(lam));
 	rec q = { .j = j, .dt = T / 300 };
 	act_end why;
@@ -565,11 +561,7 @@ static void cycle(void)
 {
 	mesh *m0 = honeycomb(6, TIS_PHEX);
 	act_perturb(m0, NULL, 1e-4, 1, NULL, 0);
-	act_opts o;
-	act_opts_init(&o);
-	o.tau = 1 / 0.19;
-	o.gamma0 = 0.11;
-	o.rtol = 1e-9;
+	act_opts o = bdf_opts(1 / 0.19, 0.11, 1e-9);
 	rec q = { .j = 0, .dt = 0.1 };
 	act_end why;
 	mesh *mo;
