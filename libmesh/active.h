@@ -261,8 +261,9 @@ int act_start(mesh *m, const model *p, const unsigned char *active, const act_jo
 /* One run of m (updated in place) with junction j active (j < 0: every
  * junction) from its start state (act_start) to jo->t_end or an event,
  * rows and frames through io.  Afterwards the mesh holds the end state,
- * with state lines (active_t, active_rng) when the run was stopped or went
- * non-finite (so it can be continued), none otherwise.  MESH_OK whatever
+ * with state lines (active_t, active_rng, active_fresh; they replace those
+ * of the run it continued) when the run was stopped or went non-finite (so
+ * it can be continued), none otherwise.  MESH_OK whatever
  * r->why (ACT_END_NONFINITE: err says why), or the error of the start,
  * the integrator or the sampling. */
 int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, int j,

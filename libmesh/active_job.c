@@ -112,6 +112,10 @@ static int record_state(mesh *m, const act *a, act_end why)
 	}
 	char buf[64], rs[OU_STATE_LEN], *fresh = NULL;
 	snprintf(buf, sizeof buf, "%.17g", act_time(a));
+	/* the lines of the run this one continued, if it did, are stale: a
+	 * fresh junction of then may have grown or changed its vertices */
+	mesh_state_del(m, "active_rng");
+	mesh_state_del(m, "active_fresh");
 	int st = MESH_OK;
 	if (mesh_state_set(m, "active_t", buf) != MESH_OK ||
 	    act_rng_get(a, rs, sizeof rs) != MESH_OK ||
