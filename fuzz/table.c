@@ -1,4 +1,5 @@
-/* fuzz/table.c - libFuzzer harness for tis-fit's TSV reader: the program
+/* fuzz/table.c - libFuzzer harness for the TSV reader (libmesh/table.c)
+ * as tis-fit uses it: the program
  * itself (tools/tis-fit.c and tools/cli.c compiled into this file) runs on
  * every input in-process.  Its exit() (cli_die on bad input, cli_finish)
  * returns here by longjmp, stdout and stderr go to /dev/null, and the
@@ -82,7 +83,7 @@ static void fuzz_free(void *p)
 	free(p);
 }
 
-static ssize_t fuzz_getline(char **buf, size_t *cap, FILE *f)
+__attribute__((unused)) static ssize_t fuzz_getline(char **buf, size_t *cap, FILE *f)
 {
 	char *old = *buf;
 	ssize_t n = getline(buf, cap, f);
@@ -170,7 +171,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	char *argv[8];
 	memcpy(argv, modes[mode], (size_t)argc * sizeof *argv);
 	argv[argc] = NULL;
-	memset(&groups, 0, sizeof groups);
 	cli_stop = 0;
 	optind = 0;   /* glibc: a full re-initialization of getopt */
 	if (setjmp(fuzz_back) == 0)

@@ -1,11 +1,31 @@
+/* table.c - the suite's table reader (table.h): row by row, and whole
+ * numeric tables on top of it. */
 #include "table.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/types.h>
+
+#include "range.h"
 
 #define MAXF 256
+
+struct table_reader {
+	FILE *f;
+	int nneed;
+	const char *const *need;
+	char *buf, *tbuf;     /* the line; a '#' line's text, split */
+	size_t bufsz, tbufsz;
+	long line;
+	long nrow;            /* rows returned */
+	char *fld[MAXF];      /* the fields of the last header or row */
+	int nfld;
+	const char *text;     /* the last comment */
+	char **hdr;           /* the last header's names (copies) */
+	int nhdr;
+};
 
 static int split(char *s, char **fld, int max)
 {
@@ -16,14 +36,16 @@ static int split(char *s, char **fld, int max)
 	return n;
 }
 
-static int is_number(const char *s, double *v)
+/* Lexically a number (strtod reads all of it): a row, not a header; its
+ * value is checked by table_number. */
+static int looks_numeric(const char *s)
 {
 	char *end;
-	errno = 0;
-	*v = strtod(s, &end);
-	return end != s && *end == '\0' && errno != ERANGE;
+	strtod(s, &end);
+	return end != s && *end == '\0';
 }
 
+/* The first of need[0..nneed) that fld[0..n) does not name, or -1. */
 static int names_all(char **fld, int n, int nneed, const char *const *need)
 {
 	for (int k = 0; k < nneed; k++) {
@@ -35,6 +57,135 @@ static int names_all(char **fld, int n, int nneed, const char *const *need)
 	}
 	return -1;
 }
+
+table_reader *table_reader_new(FILE *f, int nneed, const char *const *need)
+{
+	table_reader *r = calloc(1, sizeof *r);
+	if (r == NULL)
+		return NULL;
+	r->f = f;
+	r->nneed = nneed;
+	r->need = need;
+	return r;
+}
+
+static void drop_header(table_reader *r)
+{
+	for (int i = 0; i < r->nhdr; i++)
+		free(r->hdr[i]);
+	free(r->hdr);
+	r->hdr = NULL;
+	r->nhdr = 0;
+}
+
+void table_reader_free(table_reader *r)
+{
+	if (r == NULL)
+		return;
+	drop_header(r);
+	free(r->buf);
+	free(r->tbuf);
+	free(r);
+}
+
+static int set_header(table_reader *r, mesh_error *err)
+{
+	drop_header(r);
+	r->hdr = calloc((size_t)r->nfld, sizeof *r->hdr);
+	if (r->hdr == NULL)
+		return mesh_error_set(err, r->line, MESH_ENOMEM, "out of memory");
+	for (int i = 0; i < r->nfld; i++) {
+		if ((r->hdr[i] = strdup(r->fld[i])) == NULL)
+			return mesh_error_set(err, r->line, MESH_ENOMEM, "out of memory");
+		r->nhdr = i + 1;
+	}
+	return MESH_OK;
+}
+
+int table_next(table_reader *r, table_item *item, mesh_error *err)
+{
+	ssize_t got;
+	while ((got = getline(&r->buf, &r->bufsz, r->f)) != -1) {
+		r->line++;
+		/* every writer ends its lines: a last line without a newline is
+		 * a table cut off (head -c, a full disk, a killed writer) */
+		if (r->buf[got - 1] != '\n')
+			return mesh_error_set(err, r->line, MESH_EINVAL,
+			                      "the input ends in the middle of a line (cut off)");
+		char *s = r->buf + strspn(r->buf, " \t");
+		if (*s == '#') {
+			char *text = s + 1;
+			text[strcspn(text, "\r\n")] = '\0';
+			size_t len = strlen(text) + 1;
+			if (len > r->tbufsz) {
+				char *q = realloc(r->tbuf, len);
+				if (q == NULL)
+					return mesh_error_set(err, r->line, MESH_ENOMEM, "out of memory");
+				r->tbuf = q;
+				r->tbufsz = len;
+			}
+			memcpy(r->tbuf, text, len);
+			r->nfld = split(r->tbuf, r->fld, MAXF);
+			if (r->nfld > 0 && names_all(r->fld, r->nfld, r->nneed, r->need) < 0) {
+				*item = TABLE_HEADER;
+				return set_header(r, err);
+			}
+			r->text = text;
+			*item = TABLE_COMMENT;
+			return MESH_OK;
+		}
+		r->nfld = split(s, r->fld, MAXF);
+		if (r->nfld == 0)
+			continue;
+		if (!looks_numeric(r->fld[0])) {
+			int miss = names_all(r->fld, r->nfld, r->nneed, r->need);
+			if (miss >= 0)
+				return mesh_error_set(err, r->line, MESH_EINVAL, "header has no column '%s'",
+				                      r->need[miss]);
+			*item = TABLE_HEADER;
+			return set_header(r, err);
+		}
+		if (r->hdr == NULL)
+			return mesh_error_set(err, r->line, MESH_EINVAL,
+			                      "data before the line of column names");
+		if (r->nfld != r->nhdr)
+			return mesh_error_set(err, r->line, MESH_EINVAL, "%d fields, the header names %d",
+			                      r->nfld, r->nhdr);
+		r->nrow++;
+		*item = TABLE_ROW;
+		return MESH_OK;
+	}
+	if (ferror(r->f))
+		return mesh_error_set(err, r->line, MESH_EIO, "read error: %s", strerror(errno));
+	if (r->nrow == 0)
+		return mesh_error_set(err, r->line, MESH_EINVAL,
+		                      r->hdr ? "no data rows" : "no header line naming the columns");
+	*item = TABLE_END;
+	return MESH_OK;
+}
+
+long table_line(const table_reader *r) { return r->line; }
+const char *table_text(const table_reader *r) { return r->text; }
+int table_nfields(const table_reader *r) { return r->nfld; }
+const char *table_field(const table_reader *r, int i) { return r->fld[i]; }
+
+int table_header_col(const table_reader *r, const char *name)
+{
+	for (int i = 0; i < r->nhdr; i++)
+		if (strcmp(r->hdr[i], name) == 0)
+			return i;
+	return -1;
+}
+
+int table_number(const table_reader *r, int i, double *v, mesh_error *err)
+{
+	if (!range_number(r->fld[i], v))
+		return mesh_error_set(err, r->line, MESH_EINVAL, "column %s: not a finite number: '%s'",
+		                      r->hdr[i], r->fld[i]);
+	return MESH_OK;
+}
+
+/* ---- whole tables ---- */
 
 static int grow(void **p, int *cap, int need, size_t size)
 {
@@ -108,25 +259,32 @@ static int header(table *t, char **fld, int n, long line, int *segcap, mesh_erro
 	return MESH_OK;
 }
 
-static int row(table *t, char **fld, int n, long line, int *linecap, mesh_error *err)
+static int row(table *t, const table_reader *r, int *linecap, mesh_error *err)
 {
-	if (t->nseg == 0)
-		return mesh_error_set(err, line, MESH_EINVAL, "data before the header line");
-	if (n != t->ncol)
-		return mesh_error_set(err, line, MESH_EINVAL, "%d fields, the header names %d",
-		                      n, t->ncol);
+	long line = table_line(r);
 	if (grow((void **)&t->v, &t->cap, (t->nrow + 1) * t->ncol, sizeof *t->v) ||
 	    grow((void **)&t->line, linecap, t->nrow + 1, sizeof *t->line))
 		return mesh_error_set(err, line, MESH_ENOMEM, "out of memory");
-	for (int i = 0; i < n; i++) {
-		double v;
-		if (!is_number(fld[i], &v))
-			return mesh_error_set(err, line, MESH_EINVAL,
-			                      "column %s: not a number: '%s'", t->name[i], fld[i]);
-		t->v[(size_t)t->nrow * t->ncol + i] = v;
-	}
+	for (int i = 0; i < t->ncol; i++)
+		if (table_number(r, i, &t->v[(size_t)t->nrow * t->ncol + i], err) != MESH_OK)
+			return MESH_EINVAL;
 	t->line[t->nrow++] = line;
 	t->seg[t->nseg] = t->nrow;
+	return MESH_OK;
+}
+
+/* A comment before the first header: provenance, without its leading
+ * blank. */
+static int prov(table *t, const char *text, long line, int *provcap, mesh_error *err)
+{
+	if (t->nseg > 0)
+		return MESH_OK;
+	char *copy = strdup(text + (text[0] == ' '));
+	if (copy == NULL || grow((void **)&t->prov, provcap, t->nprov + 1, sizeof *t->prov)) {
+		free(copy);
+		return mesh_error_set(err, line, MESH_ENOMEM, "out of memory");
+	}
+	t->prov[t->nprov++] = copy;
 	return MESH_OK;
 }
 
@@ -134,60 +292,26 @@ int table_read(FILE *f, int nneed, const char *const *need, table **out, mesh_er
 {
 	*out = NULL;
 	table *t = calloc(1, sizeof *t);
-	if (t == NULL)
+	table_reader *r = table_reader_new(f, nneed, need);
+	if (t == NULL || r == NULL) {
+		free(t);
+		table_reader_free(r);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	char *buf = NULL, *fld[MAXF];
-	size_t bufsz = 0;
-	long line = 0;
-	int segcap = 0, linecap = 0, provcap = 0, st = MESH_OK;
-	while (st == MESH_OK && getline(&buf, &bufsz, f) != -1) {
-		line++;
-		char *s = buf + strspn(buf, " \t");
-		if (*s == '#') {
-			char *text = s + 1 + (s[1] == ' ');
-			char *copy = strdup(text);
-			if (copy == NULL) {
-				st = mesh_error_set(err, line, MESH_ENOMEM, "out of memory");
-				break;
-			}
-			int n = split(s + 1, fld, MAXF);
-			if (n > 0 && names_all(fld, n, nneed, need) < 0) {
-				free(copy);
-				st = header(t, fld, n, line, &segcap, err);
-				continue;
-			}
-			/* provenance: kept for the first segment only */
-			copy[strcspn(copy, "\r\n")] = '\0';
-			if (t->nseg == 0 && grow((void **)&t->prov, &provcap, t->nprov + 1, sizeof *t->prov) == 0)
-				t->prov[t->nprov++] = copy;
-			else if (t->nseg == 0) {
-				free(copy);
-				st = mesh_error_set(err, line, MESH_ENOMEM, "out of memory");
-			} else
-				free(copy);
-			continue;
-		}
-		int n = split(s, fld, MAXF);
-		if (n == 0)
-			continue;
-		double v;
-		if (!is_number(fld[0], &v)) {
-			int miss = names_all(fld, n, nneed, need);
-			if (miss >= 0)
-				st = mesh_error_set(err, line, MESH_EINVAL, "header has no column '%s'",
-				                    need[miss]);
-			else
-				st = header(t, fld, n, line, &segcap, err);
-			continue;
-		}
-		st = row(t, fld, n, line, &linecap, err);
 	}
-	if (st == MESH_OK && ferror(f))
-		st = mesh_error_set(err, line, MESH_EIO, "read error: %s", strerror(errno));
-	if (st == MESH_OK && t->nrow == 0)
-		st = mesh_error_set(err, line, MESH_EINVAL,
-		                    t->nseg ? "no data rows" : "no header line naming the columns");
-	free(buf);
+	int segcap = 0, linecap = 0, provcap = 0, st;
+	table_item it;
+	while ((st = table_next(r, &it, err)) == MESH_OK && it != TABLE_END) {
+		long line = table_line(r);
+		if (it == TABLE_COMMENT)
+			st = prov(t, table_text(r), line, &provcap, err);
+		else if (it == TABLE_HEADER)
+			st = header(t, r->fld, r->nfld, line, &segcap, err);
+		else
+			st = row(t, r, &linecap, err);
+		if (st != MESH_OK)
+			break;
+	}
+	table_reader_free(r);
 	if (st != MESH_OK) {
 		table_free(t);
 		return st;

@@ -5,7 +5,7 @@
 # and tis-fit tables by column name; the README's two examples run as
 # written.  pandas and gnuplot tests are skipped when they are missing.
 . "$(dirname "$0")/lib.sh"
-plan 27
+plan 32
 top=$(cd "$(dirname "$0")/.." && pwd)
 PY=${PYTHON:-/usr/bin/python3}
 
@@ -44,6 +44,27 @@ fails_with 2 "tis-fit: --threshold without --cusps" tis-fit --threshold 1e-4 "$T
 cut -f1-9 "$T/a.tsv" >"$T/nofres.tsv"
 fails_with 1 "tis-fit: --max-fres on a table without fres" tis-fit --max-fres 1e-6 "$T/nofres.tsv"
 ok "tis-fit: without fres, fres_max is nan" test "$(tis-fit "$T/nofres.tsv" | rows | cut -f15)" = nan
+# the text column dir: rest, out or back, nothing else
+awk -F '\t' -v OFS='\t' '$1 == $1 + 0 && !d++ { $6 = "sideways" } 1' "$T/a.tsv" >"$T/dir.tsv"
+fails_with 1 "tis-fit: a dir that is not rest, out or back" tis-fit "$T/dir.tsv"
+# one reader (libmesh/table.c): a malformed table gets the same error from
+# tis-fit and tis-behaviour (the columns of both; tis-behaviour reads every
+# field as a number, so the fault is in the first row, before dir)
+printf '# made by hand\np0\tj\tl0\tdir\tl\tf\tt\n' >"$T/both.head"
+same_error() {
+	tis-fit "$1" >/dev/null 2>"$T/e1"; s1=$?
+	tis-behaviour "$1" >/dev/null 2>"$T/e2"; s2=$?
+	[ $s1 -eq 1 ] && [ $s2 -eq 1 ] && [ "$(sed 's/^tis-fit: //' "$T/e1")" = "$(sed 's/^tis-behaviour: //' "$T/e2")" ] ||
+		{ diag "tis-fit $s1: $(cat "$T/e1")" "tis-behaviour $s2: $(cat "$T/e2")"; return 1; }
+}
+{ cat "$T/both.head"; printf '3.6\t0\t0.6\trest\t0.6'; } >"$T/m1.tsv"
+ok "the same error from tis-fit and tis-behaviour: a table cut off" same_error "$T/m1.tsv"
+{ printf '3.6\t0\t0.6\trest\t0.6\t0\t0\n'; cat "$T/both.head"; } >"$T/m2.tsv"
+ok "... a row before the column names" same_error "$T/m2.tsv"
+{ cat "$T/both.head"; printf '3.6\t0\t0.6\trest\t0.6\n'; } >"$T/m3.tsv"
+ok "... a row with too few fields" same_error "$T/m3.tsv"
+{ cat "$T/both.head"; printf '1e999\t0\t0.6\trest\t0.6\t0\t0\n'; } >"$T/m4.tsv"
+ok "... a field that is not a finite number" same_error "$T/m4.tsv"
 
 # tis-info tables: time from frames, per-cell and per-junction rows
 tis-anneal --stage 0.3:3 --relax 0 --every 1 --log "$T/log.tsv" "$T/h.mesh" >"$T/frames"
