@@ -7,8 +7,9 @@
  * picks the options (plain fit, --cusps, --summary, --branch all,
  * --degree 1 --window 0).  What the program allocates (malloc, realloc,
  * getline in these two files) is tracked and freed after it exits, as
- * exit would; what libmesh allocates for it and does not get back is
- * leaked (run with -detect_leaks=0). */
+ * exit would, and so are its table reader, provenance mesh, curve and
+ * summary groups (file scope in tis-fit.c); what else libmesh allocates for it and does not get
+ * back is leaked (run with -detect_leaks=0). */
 #include <errno.h>
 #include <getopt.h>
 #include <gsl/gsl_errno.h>
@@ -176,6 +177,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	if (setjmp(fuzz_back) == 0)
 		tis_fit_main(argc, argv);
 	free_live();
+	table_reader_free(rd);
+	rd = NULL;
+	mesh_free(prov);
+	prov = NULL;
+	fit_curve_free(&curve);
+	fit_groups_free(&groups);
 	if (fuzz_in) {
 		fclose(fuzz_in);
 		fuzz_in = NULL;

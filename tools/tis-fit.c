@@ -98,6 +98,12 @@ static struct opts parse(int argc, char **argv)
 }
 
 static const char *input_name;
+/* What main allocates, at file scope: the fuzzing harness (fuzz/table.c),
+ * in which an exit returns, frees it. */
+static table_reader *rd;
+static mesh *prov;
+static fit_curve curve;
+static fit_groups groups;
 
 _Noreturn static void die_at(int st, const mesh_error *err)
 {
@@ -149,19 +155,17 @@ int main(int argc, char **argv)
 	struct opts o = parse(argc, argv);
 	input_name = cli_input_name(o.input);
 	FILE *in = cli_open(o.input);
-	table_reader *rd = table_reader_new(in, FIT_TABLE_NNEED, fit_table_need);
+	rd = table_reader_new(in, FIT_TABLE_NNEED, fit_table_need);
 	/* The table's provenance: the input's '#' lines before its first row
 	 * (the command lines that made it), then this command line.  A mesh
 	 * with no cells carries them as its history. */
-	mesh *prov = mesh_alloc(1, 1);
+	prov = mesh_alloc(1, 1);
 	if (rd == NULL || prov == NULL)
 		cli_die(EXIT_INPUT, "out of memory");
 	const char *cols = o.cusps ? "p0\tj\ta\tb\tl0\tfrom\tto\tnpts\thas_l0"
 		: o.summary ? "p0\tn\ta1_q1\ta1_med\ta1_q3\ta3_q1\ta3_med\ta3_q3"
 		: "p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\tfres_max";
 	fit_cols col;
-	fit_curve c = { .fres_max = NAN };
-	fit_groups groups = { 0 };
 	long rows = 0;
 	int interrupted = 0;
 	table_item it;
@@ -195,23 +199,25 @@ int main(int argc, char **argv)
 			die_at(MESH_EINVAL, &err);
 		if (rows++ == 0)
 			cli_table_header(stdout, prov, cols);
-		if (c.n > 0 && !fit_curve_has(&c, &pt))
-			finish_curve(&o, &c, &groups);
-		if (c.n == 0)
-			fit_curve_start(&c, &pt, table_line(rd));
+		if (curve.n > 0 && !fit_curve_has(&curve, &pt))
+			finish_curve(&o, &curve, &groups);
+		if (curve.n == 0)
+			fit_curve_start(&curve, &pt, table_line(rd));
 		double fres = NAN;
 		if (col.fres >= 0 && table_number(rd, col.fres, &fres, &err) != MESH_OK)
 			die_at(MESH_EINVAL, &err);
 		if (!fit_branch_uses(o.branch, pt.dir) || fres > o.max_fres)
 			continue;
-		if (fit_curve_add(&c, pt.l, pt.f, fres, o.cusps || fit_in_window(pt.l - pt.l0, o.window)))
+		if (fit_curve_add(&curve, pt.l, pt.f, fres, o.cusps || fit_in_window(pt.l - pt.l0, o.window)))
 			cli_die(EXIT_INPUT, "out of memory");
 	}
 	table_reader_free(rd);
+	rd = NULL;
 	if (in != stdin)
 		fclose(in);
-	finish_curve(&o, &c, &groups);
+	finish_curve(&o, &curve, &groups);
 	mesh_free(prov);
+	prov = NULL;
 	for (int i = 0; i < groups.n; i++) {
 		double q[6];
 		fit_group_quartiles(&groups.g[i], q);
@@ -219,7 +225,7 @@ int main(int argc, char **argv)
 		       q[0], q[1], q[2], q[3], q[4], q[5]);
 	}
 	fit_groups_free(&groups);
-	fit_curve_free(&c);
+	fit_curve_free(&curve);
 	if (interrupted) {
 		printf("# %s: the input table is marked interrupted: these are fits of the "
 		       "curves it has\n", cli_name);
