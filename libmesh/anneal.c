@@ -1,0 +1,230 @@
+/* anneal.c - the sample preparation protocol (anneal.h). */
+#include "anneal.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "order.h"
+
+void anneal_opts_init(anneal_opts *o)
+{
+	*o = (anneal_opts){ .relax = 1000, .seed = 1, .log_every = 1 };
+	dyn_opts_init(&o->d);
+	o->d.tau = 1;
+	o->d.settle = ANNEAL_SETTLE_DEFAULT;
+	o->d.ou_dt = ANNEAL_OUDT_DEFAULT;
+}
+
+void anneal_default_stages(anneal_opts *o, double quench)
+{
+	o->sig[0] = 0.5;
+	o->dur[0] = 3000;
+	o->sig[1] = quench;
+	o->dur[1] = 7000;
+	o->nstage = 2;
+}
+
+void anneal_protocol(const anneal_opts *o, char *buf, size_t n)
+{
+	int len = snprintf(buf, n, "stages");
+	for (int i = 0; i < o->nstage; i++)
+		len += snprintf(buf + len, n - len, " %.17g:%.17g", o->sig[i], o->dur[i]);
+	snprintf(buf + len, n - len, " relax %.17g tau %.17g seed %lu dt %.17g dr %.17g ou_dt %.17g "
+	         "settle %.17g t1 %.17g t1_new %.17g", o->relax, o->d.tau, o->seed, o->d.dt_max,
+	         o->d.dr_max, o->d.ou_dt, o->d.settle, o->d.t1_length, o->d.t1_new);
+}
+
+int anneal_resume(mesh *m, const anneal_opts *o, int *continued, mesh_error *err)
+{
+	char proto[2048];
+	anneal_protocol(o, proto, sizeof proto);
+	const char *was = mesh_state_get(m, "anneal_run");
+	*continued = was != NULL;
+	if (was && strcmp(was, proto) != 0)
+		return mesh_error_set(err, 0, MESH_EINVAL, "the mesh holds the state of a stopped "
+		                      "tis-anneal run with other options (%s): give the same options "
+		                      "to continue it", was);
+	mesh_error e2;
+	if (was && dyn_state_restore_mesh(m, &e2) != MESH_OK)
+		return mesh_error_set(err, 0, MESH_EINVAL, "%s: %s", o->name ? o->name : "<mesh>", e2.msg);
+	return MESH_OK;
+}
+
+/* A run in progress. */
+struct run {
+	const anneal_opts *o;
+	const anneal_io *io;
+	mesh *m;
+	dyn *d;
+	anneal_status s;
+	double next_frame, next_log;
+	long kframe, klog;
+	int io_stop;         /* the log callback asked to stop */
+};
+
+static void status(struct run *u, int energy)
+{
+	const mesh *m = u->m;
+	int n = 0;
+	for (int k = 0; k < m->nc; k++)
+		n += m->coff[k + 1] - m->coff[k] == 6;
+	dyn_counts_get(u->d, &u->s.c);
+	u->s.f6 = (double)n / m->nc;
+	u->s.energy = energy ? dyn_energy(u->d) : 0;
+}
+
+static void log_row(struct run *u)
+{
+	if (u->io->log == NULL || u->io_stop)
+		return;
+	status(u, 1);
+	u->io_stop = u->io->log(u->io->data, &u->s);
+}
+
+/* After every step: frames, log rows and progress at the first step at or
+ * after their time, so that watching does not change the run. */
+static int observe(dyn *d, void *data)
+{
+	struct run *u = data;
+	dyn_counts c;
+	dyn_counts_get(d, &c);
+	if (u->o->every > 0 && c.t >= u->next_frame) {
+		/* the final mesh is the frame at the end: not twice */
+		if (c.t < u->s.total * (1 - 1e-12) && u->io->frame)
+			u->io->frame(u->io->data, u->m, c.t);
+		while (u->next_frame <= c.t)
+			u->next_frame = ++u->kframe * u->o->every;
+	}
+	if (u->io->log && c.t >= u->next_log) {
+		log_row(u);
+		while (u->next_log <= c.t)
+			u->next_log = ++u->klog * u->o->log_every;
+	}
+	if (u->io->step && (c.nstep & 4095) == 0) {
+		status(u, 0);
+		u->io->step(u->io->data, &u->s);
+	}
+	return u->io_stop;
+}
+
+/* Run to cumulative time t_end: 1 if it got there. */
+static int run_to(struct run *u, double t_end, volatile sig_atomic_t *stop, anneal_result *r,
+                  mesh_error *err, int *st)
+{
+	*st = dyn_run(u->d, t_end, stop, observe, u, err);
+	if (*st == MESH_ENOMEM)
+		return 0;
+	r->why = *st != MESH_OK ? ANNEAL_END_FAILED : u->io_stop ? ANNEAL_END_IO
+		: stop && *stop ? ANNEAL_END_STOP : ANNEAL_END_DONE;
+	*st = MESH_OK;
+	return r->why == ANNEAL_END_DONE;
+}
+
+int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
+               volatile sig_atomic_t *stop, const anneal_io *io, anneal_result *r,
+               mesh_error *err)
+{
+	static const anneal_io none = { 0 };
+	struct run u = { .o = o, .io = io ? io : &none, .m = m };
+	*r = (anneal_result){ .continued = continued };
+	for (int i = 0; i < o->nstage; i++)
+		u.s.total += o->dur[i];
+	u.s.total += o->relax;
+	int st = dyn_alloc(m, p, &o->d, o->seed, &u.d, err);
+	if (st != MESH_OK)
+		return st;
+	mesh_error e2;
+	if (continued && dyn_state_load(u.d, &e2) != MESH_OK) {
+		dyn_free(u.d);
+		return mesh_error_set(err, 0, MESH_EINVAL, "%s: %s", o->name ? o->name : "<mesh>", e2.msg);
+	}
+	/* used up: frames and the final mesh carry only a new one */
+	dyn_state_clear(m);
+	mesh_state_del(m, "anneal_run");
+	dyn_counts_get(u.d, &r->c0);
+	/* frames and log rows at the first step at or after each multiple of
+	 * their interval; a continued run goes on with the next one */
+	log_row(&u);
+	do
+		u.next_log = ++u.klog * o->log_every;
+	while (u.next_log <= r->c0.t);
+	if (o->every > 0)
+		do
+			u.next_frame = ++u.kframe * o->every;
+		while (u.next_frame <= r->c0.t);
+
+	u.s.nstage = o->nstage + (o->relax > 0);
+	double tcum = 0;
+	int done = 1;
+	for (int i = 0; i < o->nstage && done; i++) {
+		u.s.stage = i;
+		dyn_options(u.d)->sigma = o->sig[i];
+		tcum += o->dur[i];
+		done = run_to(&u, tcum, stop, r, err, &st);
+	}
+	dyn_counts_get(u.d, &r->before_relax);
+	if (done && o->relax > 0) {
+		dyn_options(u.d)->sigma = 0;
+		tcum += o->relax;
+		u.s.stage = o->nstage;
+		done = run_to(&u, tcum, stop, r, err, &st);
+	}
+	if (st == MESH_OK) {
+		status(&u, 0);
+		r->last = u.s;
+		r->c = u.s.c;
+		if (done && o->relax > 0 && m->dg) {
+			/* what is left after relaxing is at most exp(-relax/tau) of
+			 * the noise: a relaxed sample is passive, with no tension
+			 * state */
+			free(m->dg);
+			m->dg = NULL;
+		}
+		if (!done) {
+			/* a stopped run leaves what continuing it needs */
+			char proto[2048];
+			anneal_protocol(o, proto, sizeof proto);
+			if (dyn_state_save(u.d) != MESH_OK || mesh_state_set(m, "anneal_run", proto) != MESH_OK)
+				st = MESH_ENOMEM;
+			log_row(&u);
+		} else if (mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)
+			st = MESH_ENOMEM;
+	}
+	dyn_free(u.d);
+	if (st == MESH_ENOMEM)
+		return mesh_error_set(err, 0, st, "out of memory");
+	return MESH_OK;
+}
+
+int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *r,
+                const char *why)
+{
+	const dyn_counts *c = &r->c;
+#define ADD(...) (len += snprintf(buf + len, n > (size_t)len ? n - len : 0, __VA_ARGS__))
+	int len = 0;
+	ADD("stages");
+	for (int i = 0; i < o->nstage; i++)
+		ADD(" %g:%g", o->sig[i], o->dur[i]);
+	if (o->relax > 0)
+		ADD(", relax %g at sigma=0 (T1s %s, %ld in relax)", o->relax,
+		    o->d.t1_length > 0 ? "on" : "off", c->nt1 - r->before_relax.nt1);
+	ADD("; tau %g, dt<=%g, dr<=%g, seed %lu; t %.10g, %ld steps, %ld T1s", o->d.tau,
+	    o->d.dt_max, o->d.dr_max, o->seed, c->t, c->nstep, c->nt1);
+	if (c->nt1_refused)
+		ADD(", %ld refused", c->nt1_refused);
+	if (o->d.ou_dt > 0)
+		ADD("; noise updated every %g", o->d.ou_dt);
+	else
+		ADD("; noise updated every step");
+	if (c->nsettle > 0)
+		ADD("; %ld sigma=0 stages finished by Newton minimization at fixed topology once max "
+		    "force and tension <= %g (settle), covering %.10g time units", c->nsettle,
+		    o->d.settle, c->t_settled);
+	if (r->continued)
+		ADD("; continued from t %.10g", r->c0.t);
+	if (why)
+		ADD("; %s", why);
+#undef ADD
+	return len;
+}

@@ -1,0 +1,111 @@
+/* anneal.h - the paper's sample preparation as a protocol (tis-anneal):
+ * stages of overdamped dynamics with Ornstein-Uhlenbeck tension noise and
+ * T1s (dynamics.h), each at its sigma for its duration, then a sigma = 0
+ * relaxation; frames and log rows on a fixed time grid; a run stopped and
+ * continued from the mesh it left (dynamics.h, "Resume") ends as the run
+ * never stopped.  The caller does the output through callbacks.
+ */
+#ifndef TIS_ANNEAL_H
+#define TIS_ANNEAL_H
+
+#include <signal.h>
+#include <stddef.h>
+
+#include "dynamics.h"
+#include "mesh.h"
+
+#define ANNEAL_MAXSTAGE 64
+
+/* Defaults chosen from bench/RESULTS.md: settling at 1e-4 gives the cells
+ * and coordinates of stepping through a quiet stage; a noise update every
+ * 0.01 gives the hexagon fractions of the paper's every-step update (10
+ * seeds of the full protocol) in two thirds of the time. */
+#define ANNEAL_SETTLE_DEFAULT 1e-4
+#define ANNEAL_OUDT_DEFAULT 0.01
+
+typedef struct {
+	int nstage;                    /* stages: sigma sig[i] for dur[i] */
+	double sig[ANNEAL_MAXSTAGE], dur[ANNEAL_MAXSTAGE];
+	double relax;                  /* final sigma = 0 stage (1000; 0: none) */
+	unsigned long seed;            /* (1) */
+	dyn_opts d;                    /* the dynamics; d.tau the correlation
+	                                  time, d.sigma set per stage */
+	double every;                  /* frame interval (0: no frames) */
+	double log_every;              /* log row interval (1) */
+	const char *name;              /* the input's name, for messages */
+} anneal_opts;
+
+/* The defaults above, no stages yet. */
+void anneal_opts_init(anneal_opts *o);
+/* The paper's protocol: sigma 0.5 for 3000, then quench for 7000. */
+void anneal_default_stages(anneal_opts *o, double quench);
+
+/* The options a continued run must share with the first, as text (the
+ * state line anneal_run). */
+void anneal_protocol(const anneal_opts *o, char *buf, size_t n);
+
+/* A mesh left by a stopped run: *continued = 1 and its exact state
+ * restored (dyn_state_restore_mesh), if it was stopped with the options o
+ * (MESH_EINVAL naming its options otherwise); *continued = 0 for another
+ * mesh.  Before the caller changes the mesh (parameters, history). */
+int anneal_resume(mesh *m, const anneal_opts *o, int *continued, mesh_error *err);
+
+/* Where a run is, for the callbacks. */
+typedef struct {
+	int stage, nstage;   /* the stage running (from 0), of how many (the
+	                        relaxation counts) */
+	double total;        /* the protocol's length */
+	dyn_counts c;
+	double f6;           /* hexagon fraction */
+	double energy;       /* W (log rows only) */
+} anneal_status;
+
+/* Callbacks, any of them NULL.  frame: the mesh at the first step at or
+ * after a multiple of every (not at the end of the protocol: that is the
+ * final mesh).  log: a row at the start, at the first step at or after a
+ * multiple of log_every, and at the end of a run that stopped early;
+ * nonzero stops the run (a write error).  step: every 4096 steps
+ * (progress).  None may change the run. */
+typedef struct {
+	void (*frame)(void *data, mesh *m, double t);
+	int (*log)(void *data, const anneal_status *s);
+	void (*step)(void *data, const anneal_status *s);
+	void *data;
+} anneal_io;
+
+typedef enum {
+	ANNEAL_END_DONE,    /* the whole protocol */
+	ANNEAL_END_FAILED,  /* the dynamics failed (err says why); the mesh is
+	                       the last valid state */
+	ANNEAL_END_IO,      /* the log callback asked to stop */
+	ANNEAL_END_STOP,    /* *stop */
+} anneal_end;
+
+typedef struct {
+	anneal_end why;
+	int continued;
+	dyn_counts c0;           /* at the start (a continued run: where it was) */
+	dyn_counts before_relax; /* at the end of the noisy stages */
+	dyn_counts c;            /* at the end */
+	anneal_status last;      /* the status at the end */
+} anneal_result;
+
+/* Run the protocol on m (continued: anneal_resume said so) to its end or
+ * a stop.  A run that ends leaves a passive mesh (no tensions after the
+ * relaxation) numbered along the cells' Hilbert curve for the programs
+ * reading it (mesh_order_spatial; the input is left as it is, so a
+ * trajectory does not depend on this); one that stops leaves the state
+ * lines that continuing it needs, in its own numbering.  MESH_OK whatever
+ * r->why; the errors of dyn_alloc, dyn_state_load (prefixed with the
+ * input's name), MESH_ENOMEM. */
+int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
+               volatile sig_atomic_t *stop, const anneal_io *io, anneal_result *r,
+               mesh_error *err);
+
+/* The history note of a run: the protocol, the counts, and why (if not
+ * NULL: how it stopped early).  Returns the length snprintf would have
+ * written. */
+int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *r,
+                const char *why);
+
+#endif
