@@ -41,6 +41,7 @@
 #define TIS_ACTIVE_H
 
 #include <signal.h>
+#include <stdio.h>
 
 #include "geom.h"
 #include "mesh.h"
@@ -268,6 +269,21 @@ int act_start(mesh *m, const model *p, const unsigned char *active, const act_jo
  * the integrator or the sampling. */
 int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, int j,
             volatile sig_atomic_t *stop, const act_io *io, act_result *r, mesh_error *err);
+
+/* The tables of tis-active(1).  The trace (--trace): one junction (j >= 0)
+ * t l dg ldot W, a network t f6 W nt1 dg_mean dg_sd lmin nt1_again and
+ * l_K dg_K for each watched junction K; act_trace_columns writes the
+ * names (tab-separated, as many watched ones as fit in n) into buf,
+ * act_trace_write a row.  The T1 events (--events), one row per T1
+ * (act_t1_hook's arguments).  Several runs (--random, --list): one row
+ * per junction j of the input m0. */
+void act_trace_columns(char *buf, size_t n, int j, const int *watch, int nwatch);
+void act_trace_write(FILE *f, const act_row *w, int j);
+#define ACT_EVENT_COLUMNS "t\tj\tlose1\tlose2\tgain1\tgain2\tl_before"
+void act_event_write(FILE *f, double t, int j, const int lose[2], const int gain[2],
+                     double lbefore);
+#define ACT_RESULT_COLUMNS "j\ta\tb\tl0\treason\tt_end\tt_c\tl_end\tdg_end\tl_min\tl_max\tnstep"
+void act_result_write(FILE *f, const mesh *m0, int j, const act_result *r);
 
 /* The history note of a run ("end REASON; t T[, t_c TC]; SCHEME, counts"),
  * its items split by ';', one of them "t T" (what mesh_time reads).

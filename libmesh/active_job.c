@@ -214,3 +214,42 @@ int act_note(char *buf, size_t n, const act_opts *o, const act_result *r)
 				", %ld factorizations, %ld GMRES iterations", r->c.nsetup, r->c.nlin);
 	return len;
 }
+
+void act_trace_columns(char *buf, size_t n, int j, const int *watch, int nwatch)
+{
+	if (j >= 0) {
+		snprintf(buf, n, "t\tl\tdg\tldot\tW");
+		return;
+	}
+	int len = snprintf(buf, n, "t\tf6\tW\tnt1\tdg_mean\tdg_sd\tlmin\tnt1_again");
+	for (int k = 0; k < nwatch && len + 96 < (int)n; k++)
+		len += snprintf(buf + len, n - len, "\tl_%d\tdg_%d", watch[k], watch[k]);
+}
+
+void act_trace_write(FILE *f, const act_row *w, int j)
+{
+	if (j >= 0)
+		fprintf(f, "%.10g\t%.12g\t%.12g\t%.12g\t%.12g\n", w->t, w->l, w->dg, w->ldot, w->W);
+	else
+		fprintf(f, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g\t%ld", w->t, w->f6, w->W,
+		        w->nt1, w->dg_mean, w->dg_sd, w->lmin, w->nt1_again);
+	for (int k = 0; k < w->nwatch; k++)
+		fprintf(f, "\t%.10g\t%.10g", w->wl[k], w->wdg[k]);
+	if (j < 0)
+		fputc('\n', f);
+}
+
+void act_event_write(FILE *f, double t, int j, const int lose[2], const int gain[2],
+                     double lbefore)
+{
+	fprintf(f, "%.10g\t%d\t%d\t%d\t%d\t%d\t%.10g\n", t, j, lose[0], lose[1], gain[0],
+	        gain[1], lbefore);
+}
+
+void act_result_write(FILE *f, const mesh *m0, int j, const act_result *r)
+{
+	fprintf(f, "%d\t%d\t%d\t%.10g\t%s\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%ld\n", j,
+	        m0->jv[2 * j], m0->jv[2 * j + 1], junction_length(m0, m0->r, j),
+	        act_end_name(r->why), r->t_end, r->t_c, r->l_end, r->dg_end, r->lmin, r->lmax,
+	        r->c.nstep);
+}

@@ -57,6 +57,12 @@ int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n);
  * loop: A is optarg, B the next argument (optind moves past it). */
 void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b);
 
+/* An output file for run j of several: its name is pattern with its one
+ * "%d" replaced by j (cli_one_d says whether it has that), or pattern
+ * itself for j < 0.  Exit 1 if it cannot be opened for writing. */
+FILE *cli_open_numbered(const char *pattern, int j);
+int cli_one_d(const char *name);
+
 /* Open a mesh input: NULL or "-" is stdin.  Exit 1 if it cannot be opened. */
 FILE *cli_open(const char *path);
 /* The name to use for an input in messages. */
@@ -101,6 +107,10 @@ void cli_history_note(mesh *m, const char *note);
  * names cols (tab-separated, no '#'), the header pandas (comment='#') and
  * gnuplot (columnhead) read by name.  Exit 1 on a write error. */
 void cli_table_header(FILE *f, const mesh *m, const char *cols);
+/* The same for a table written beside a run of m, whose history already
+ * ends with this program's command line (cli_history): that line is not
+ * repeated. */
+void cli_table_header_run(FILE *f, const mesh *m, const char *cols);
 
 /* Close stdout and exit 0, or exit 1 on a write error. */
 _Noreturn void cli_finish(void);

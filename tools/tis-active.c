@@ -84,13 +84,6 @@ static void set_sel(struct opts *o, int sel)
 	o->sel = sel;
 }
 
-/* The name has exactly one '%', in a "%d". */
-static int one_d(const char *name)
-{
-	const char *p = strchr(name, '%');
-	return p && p[1] == 'd' && strchr(p + 1, '%') == NULL;
-}
-
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
@@ -196,9 +189,9 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("--watch is for --network");
 	if (multi && o.every > 0)
 		cli_usage_error("--every writes frames of one run: not with --random or --list");
-	if (multi && o.trace && !one_d(o.trace))
+	if (multi && o.trace && !cli_one_d(o.trace))
 		cli_usage_error("--trace with several junctions needs one %%d in the file name");
-	if (multi && o.events && !one_d(o.events))
+	if (multi && o.events && !cli_one_d(o.events))
 		cli_usage_error("--events with several junctions needs one %%d in the file name");
 	return o;
 }
@@ -236,16 +229,7 @@ static void on_row(void *data, const act_row *w)
 	struct out *u = data;
 	if (u->trace == NULL)
 		return;
-	if (u->j >= 0)
-		fprintf(u->trace, "%.10g\t%.12g\t%.12g\t%.12g\t%.12g\n", w->t, w->l, w->dg, w->ldot,
-			w->W);
-	else
-		fprintf(u->trace, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g\t%ld", w->t, w->f6,
-			w->W, w->nt1, w->dg_mean, w->dg_sd, w->lmin, w->nt1_again);
-	for (int k = 0; k < w->nwatch; k++)
-		fprintf(u->trace, "\t%.10g\t%.10g", w->wl[k], w->wdg[k]);
-	if (u->j < 0)
-		fputc('\n', u->trace);
+	act_trace_write(u->trace, w, u->j);
 	fflush(u->trace);   /* a long run can be watched with tail -f */
 }
 
@@ -259,49 +243,21 @@ static void on_t1(void *data, double t, int j, const int lose[2], const int gain
                   double lbefore)
 {
 	struct out *u = data;
-	fprintf(u->events, "%.10g\t%d\t%d\t%d\t%d\t%d\t%.10g\n", t, j, lose[0], lose[1], gain[0],
-		gain[1], lbefore);
-}
-
-/* FILE, or with several junctions (j >= 0) FILE with its one %d replaced
- * by j (parse checked that it has exactly that). */
-static FILE *open_out(const char *pattern, int j)
-{
-	char name[4096];
-	const char *p = j >= 0 ? strstr(pattern, "%d") : NULL;
-	if (p)
-		snprintf(name, sizeof name, "%.*s%d%s", (int)(p - pattern), pattern, j, p + 2);
-	else
-		snprintf(name, sizeof name, "%s", pattern);
-	FILE *f = fopen(name, "w");
-	if (f == NULL)
-		cli_die(EXIT_INPUT, "%s: cannot open for writing", name);
-	return f;
-}
-
-/* A table's header: the mesh's history without this command's line,
- * which cli_table_header adds. */
-static void header(FILE *f, mesh *m, const char *cols)
-{
-	m->nhist--;
-	cli_table_header(f, m, cols);
-	m->nhist++;
+	act_event_write(u->events, t, j, lose, gain, lbefore);
 }
 
 static void on_begin(void *data, act *a, mesh *m)
 {
 	struct out *u = data;
 	if (u->o->trace) {
-		u->trace = open_out(u->o->trace, u->jfile);
-		char cols[4096] = "t\tf6\tW\tnt1\tdg_mean\tdg_sd\tlmin\tnt1_again";
-		for (int k = 0, n = (int)strlen(cols); k < u->o->nwatch && n < 4000; k++)
-			n += snprintf(cols + n, sizeof cols - n, "\tl_%d\tdg_%d", u->o->watch[k],
-			              u->o->watch[k]);
-		header(u->trace, m, u->j >= 0 ? "t\tl\tdg\tldot\tW" : cols);
+		u->trace = cli_open_numbered(u->o->trace, u->jfile);
+		char cols[4096];
+		act_trace_columns(cols, sizeof cols, u->j, u->o->watch, u->o->nwatch);
+		cli_table_header_run(u->trace, m, cols);
 	}
 	if (u->o->events) {
-		u->events = open_out(u->o->events, u->jfile);
-		header(u->events, m, "t\tj\tlose1\tlose2\tgain1\tgain2\tl_before");
+		u->events = cli_open_numbered(u->o->events, u->jfile);
+		cli_table_header_run(u->events, m, ACT_EVENT_COLUMNS);
 		act_set_t1_hook(a, on_t1, u);
 	}
 }
@@ -357,7 +313,7 @@ static int one(const struct opts *o, mesh *m, const model *p, int j)
 
 static int several(const struct opts *o, const mesh *m0, const model *p, const int *sel, int n)
 {
-	cli_table_header(stdout, m0, "j\ta\tb\tl0\treason\tt_end\tt_c\tl_end\tdg_end\tl_min\tl_max\tnstep");
+	cli_table_header(stdout, m0, ACT_RESULT_COLUMNS);
 	int bad = 0;
 	for (int i = 0; i < n && !cli_stop; i++) {
 		int j = sel[i];
@@ -365,10 +321,7 @@ static int several(const struct opts *o, const mesh *m0, const model *p, const i
 		if (m == NULL)
 			cli_die(EXIT_INPUT, "out of memory");
 		act_result r = run(o, m, p, j, j);
-		printf("%d\t%d\t%d\t%.10g\t%s\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%.10g\t%ld\n", j,
-		       m0->jv[2 * j], m0->jv[2 * j + 1], junction_length(m0, m0->r, j),
-		       act_end_name(r.why), r.t_end, r.t_c, r.l_end, r.dg_end, r.lmin, r.lmax,
-		       r.c.nstep);
+		act_result_write(stdout, m0, j, &r);
 		fflush(stdout);
 		bad |= r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE;
 		mesh_free(m);

@@ -204,11 +204,7 @@ int main(int argc, char **argv)
 		u.log = fopen(o.log, "w");
 		if (u.log == NULL)
 			cli_die(EXIT_INPUT, "%s: cannot open for writing", o.log);
-		/* the mesh's history without this command line, which
-		 * cli_table_header adds */
-		mesh h = *m;
-		h.nhist--;
-		cli_table_header(u.log, &h, "t\tf6\tenergy\tt1");
+		cli_table_header_run(u.log, m, "t\tf6\tenergy\tt1");
 		if (fflush(u.log) != 0)
 			u.log_errno = errno ? errno : EIO;
 	}
