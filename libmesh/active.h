@@ -210,6 +210,13 @@ double act_rest_force(const mesh *m, const model *p);
  * What tis-active does for each junction it is asked about; the caller
  * does the output through the callbacks. */
 
+/* The defaults that depend on the kind of run, for the options not set:
+ * in network mode T1s on (threshold ACT_NET_T1) and the split scheme (bdf
+ * restarts at every T1, which a network does often: bench/RESULTS.md);
+ * otherwise T1s off, and euler with noise (bdf has none). */
+#define ACT_NET_T1 0.01
+void act_opts_mode(act_opts *o, int network, int t1_set, int scheme_set);
+
 /* The start perturbation of a mesh at rest (its s.d.), and the largest
  * force a mesh assumed at rest may have. */
 #define ACT_PERTURB_DEFAULT 1e-4

@@ -9,6 +9,14 @@
 #include "active.h"
 #include "noise.h"
 
+void act_opts_mode(act_opts *o, int network, int t1_set, int scheme_set)
+{
+	if (!t1_set)
+		o->t1_length = network ? ACT_NET_T1 : 0;
+	if ((o->sigma > 0 || network) && !scheme_set)
+		o->scheme = network ? ACT_SPLIT : ACT_EULER;
+}
+
 int act_start(mesh *m, const model *p, const unsigned char *active, const act_job_opts *jo,
               double *t0, char *rng, size_t n, mesh_error *err)
 {

@@ -175,13 +175,9 @@ static struct opts parse(int argc, char **argv)
 	if (argc - optind > 1)
 		cli_usage_error("at most one input file");
 	o.input = optind < argc ? argv[optind] : NULL;
-	if (!o.has_t1)
-		o.a.t1_length = o.sel == SEL_NET ? 0.01 : 0;
+	act_opts_mode(&o.a, o.sel == SEL_NET, o.has_t1, o.has_scheme);
 	if (o.a.t1_length > 0 && !(o.a.t1_new < o.a.t1_length))
 		cli_usage_error("--t1-new must be shorter than the T1 threshold");
-	/* bdf restarts at every T1, which a network does often (bench/RESULTS.md) */
-	if ((o.a.sigma > 0 || o.sel == SEL_NET) && !o.has_scheme)
-		o.a.scheme = o.sel == SEL_NET ? ACT_SPLIT : ACT_EULER;
 	if (o.a.sigma > 0 && o.a.scheme == ACT_BDF)
 		cli_usage_error("--scheme bdf has no noise; use --scheme euler with --sigma");
 	int multi = o.sel == SEL_RANDOM || o.sel == SEL_LIST;
