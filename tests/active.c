@@ -183,6 +183,18 @@ static act_opts bdf_opts(double tau, double g0, double rtol)
 	return o;
 }
 
+/* A network with T1s: split, tau 2, gamma0 0.5, threshold 0.01. */
+static act_opts net_opts(void)
+{
+	act_opts o;
+	act_opts_init(&o);
+	o.scheme = ACT_SPLIT;
+	o.tau = 2;
+	o.gamma0 = 0.5;
+	o.t1_length = 0.01;
+	return o;
+}
+
 static double maxdiff(const mesh *a, const mesh *b, int j)
 {
 	double d = 0;
@@ -361,12 +373,7 @@ static void watch(void)
 	mesh *m = honeycomb(6, 3.65);
 	model p = model_from_mesh(m);
 	act_perturb(m, NULL, 1e-4, 1, NULL, 0);
-	act_opts o;
-	act_opts_init(&o);
-	o.scheme = ACT_SPLIT;
-	o.tau = 2;
-	o.gamma0 = 0.5;
-	o.t1_length = 0.01;
+	act_opts o = net_opts();
 	act *a;
 	mesh_error err;
 	watchrec w = { .nj = m->nj };
@@ -754,12 +761,7 @@ static void fresh_resume(void)
 {
 	mesh *m0 = honeycomb(6, 3.65);
 	model p = model_from_mesh(m0);
-	act_opts o;
-	act_opts_init(&o);
-	o.scheme = ACT_SPLIT;
-	o.tau = 2;
-	o.gamma0 = 0.5;
-	o.t1_length = 0.01;
+	act_opts o = net_opts();
 	act_job_opts jo = { .perturb = -1, .seed = 3, .t_end = 30, .trace_every = 1 };
 	act_result r;
 	mesh_error err;
