@@ -406,12 +406,16 @@ static int settle(dyn *d, double t_end, double lshort)
 	min_opts mo;
 	min_opts_init(&mo);
 	int st = mesh_relax(c, &d->p, &mo, NULL);
-	double lmin = INFINITY;
-	for (int j = 0; j < c->nj; j++) {
+	/* stepping T1s a junction once it is below lshort and shrinking, so a
+	 * minimum is the stepped one only if no junction ends below lshort
+	 * shorter than it started; one made by a T1 that grows to a length
+	 * below lshort is such a minimum (stepping would creep to it) */
+	int shrunk = 0;
+	for (int j = 0; j < c->nj && !shrunk; j++) {
 		double l = junction_length(c, c->r, j);
-		lmin = l < lmin ? l : lmin;
+		shrunk = !(l > lshort || l >= junction_length(m, m->r, j));
 	}
-	if (st != MESH_OK || !(lmin > lshort)) {
+	if (st != MESH_OK || shrunk) {
 		mesh_free(c);
 		return st == MESH_ENOMEM ? -1 : 0;
 	}
@@ -496,8 +500,13 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			}
 			double lmin = cand_lengths(d);
 			if (lmin < thr2) {
+				long nt1 = d->c.nt1;
 				if ((st = do_t1s(d, err)) != MESH_OK)
 					return st;
+				/* a settling refused for a junction that would
+				 * have collapsed may succeed once it has flipped */
+				if (d->c.nt1 > nt1 && fsettle > 0)
+					fsettle = o.settle;
 				d->lmax_ok = 0;   /* T1s moved vertices */
 				/* T1s scatter neighbouring cells over the cell
 				 * table, and a T1's cost grows with the spread;

@@ -36,13 +36,17 @@
  * stepping on to t_end only creeps (the force decays as exp(-lambda t)
  * with lambda ~ 0.01 for the softest mode of a quenched tissue, so
  * reaching 1e-10 takes ~1000 time units).  When the largest vertex force
- * and every tension are at most settle and no junction is shorter than
- * the T1 threshold (or l_stop with T1s off), the run minimizes the energy
+ * and every tension are at most settle, the run minimizes the energy
  * at fixed topology (mesh_relax, Newton), drops the tensions (their
  * state is freed, as when they decay to 0) and jumps to t_end.  The jump is
- * taken only if the minimizer converged and left every junction longer
- * than that threshold; otherwise stepping goes on and settling is tried
- * again at a 100 times smaller force.
+ * taken only if the minimizer converged and no junction ended shorter
+ * than the T1 threshold (or l_stop with T1s off) and shorter than it
+ * started, i.e. none that stepping would have flipped or stopped at on
+ * the way (a junction made by a T1 may grow to a minimum below the
+ * threshold: stepping would never flip it again).  Otherwise stepping
+ * goes on and settling is tried again at a 100 times smaller force, or
+ * at settle again after the next T1 (the junction that would have
+ * collapsed may be the one that flipped).
  */
 #ifndef TIS_DYNAMICS_H
 #define TIS_DYNAMICS_H
