@@ -309,7 +309,7 @@ static int one(const struct opts *o, mesh *m, const model *p, int j)
 
 static int several(const struct opts *o, const mesh *m0, const model *p, const int *sel, int n)
 {
-	cli_table_header(stdout, m0, ACT_RESULT_COLUMNS);
+	cli_table_header_run(stdout, m0, ACT_RESULT_COLUMNS);
 	int bad = 0;
 	for (int i = 0; i < n && !cli_stop; i++) {
 		int j = sel[i];
