@@ -1,10 +1,14 @@
-/* energy-bench [--order] [--steps] N|MESH ...: time of one energy+gradient
+/* energy-bench [--order] [--steps] [--mesh] [--sigma S] [--ou-dt H] N|MESH ...:
+ * time of one energy+gradient
  * evaluation of a perturbed N-cell honeycomb (N = nx*nx rounded to even
  * nx) or of the tissue in the file MESH, best of 5 runs.  --order first
  * renumbers the mesh along a Hilbert curve (mesh_order_spatial);
  * --steps also times the explicit Euler step of the dynamics (dyn_run at
  * sigma 0.5 with T1s: force, move, noise, T1 candidates) over about 3e6
- * vertex-steps, best of 3.  Times are the thread's CPU time. */
+ * vertex-steps, best of 3.  Times are the thread's CPU time.  --mesh:
+ * every operand is a mesh file, whatever its name; --sigma and --ou-dt
+ * set the step's noise (sigma 0: no noise, as cellGPU's plain step;
+ * bench/cellgpu.sh). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,11 +29,11 @@ static double now(void)
 	return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
-static mesh *load(const char *arg)
+static mesh *load(const char *arg, int file)
 {
 	mesh *m;
 	mesh_error err;
-	if (strchr(arg, '/') || strstr(arg, ".mesh")) {
+	if (file || strchr(arg, '/') || strstr(arg, ".mesh")) {
 		FILE *f = fopen(arg, "r");
 		long line = 0;
 		if (f == NULL || mesh_read(f, &line, &m, &err) != MESH_OK) {
@@ -50,17 +54,24 @@ static mesh *load(const char *arg)
 
 int main(int argc, char **argv)
 {
-	int order = 0, steps = 0, a = 1;
+	int order = 0, steps = 0, file = 0, a = 1;
+	double sigma = 0.5, ou_dt = 0.01;
 	for (; a < argc && argv[a][0] == '-'; a++) {
 		if (strcmp(argv[a], "--order") == 0)
 			order = 1;
 		else if (strcmp(argv[a], "--steps") == 0)
 			steps = 1;
+		else if (strcmp(argv[a], "--mesh") == 0)
+			file = 1;
+		else if (strcmp(argv[a], "--sigma") == 0 && a + 1 < argc)
+			sigma = atof(argv[++a]);
+		else if (strcmp(argv[a], "--ou-dt") == 0 && a + 1 < argc)
+			ou_dt = atof(argv[++a]);
 	}
 	printf("# cells\tvertices\tus_per_eval\tns_per_vertex%s\n",
 	       steps ? "\tus_per_step\tns_per_vertex_step" : "");
 	for (; a < argc; a++) {
-		mesh *m = load(argv[a]);
+		mesh *m = load(argv[a], file);
 		if (order && mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)
 			return 1;
 		energy_ws *w = energy_ws_alloc(m);
@@ -84,8 +95,8 @@ int main(int argc, char **argv)
 				mesh *c = mesh_copy(m);
 				dyn_opts o;
 				dyn_opts_init(&o);
-				o.sigma = 0.5;
-				o.ou_dt = 0.01;
+				o.sigma = sigma;
+				o.ou_dt = ou_dt;
 				dyn *d;
 				mesh_error err;
 				if (c == NULL || dyn_alloc(c, &p, &o, 1, &d, &err) != MESH_OK)
