@@ -497,9 +497,14 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			}
 			double lmin = cand_lengths(d);
 			if (lmin < thr2) {
+				long nt1 = d->c.nt1;
 				if ((st = do_t1s(d, err)) != MESH_OK)
 					return st;
-				d->lmax_ok = 0;   /* T1s moved vertices */
+				/* a T1 moves its two vertices by at most half the
+				 * old length plus half the new: the bound on the
+				 * junctions' growth takes that instead of every
+				 * junction being measured again */
+				d->ldisp += (double)(d->c.nt1 - nt1) * 0.5 * (o.t1_length + o.t1_new) * (1 + 1e-9);
 				/* T1s scatter neighbouring cells over the cell
 				 * table, and a T1's cost grows with the spread;
 				 * renumbering costs about as much as 10 T1s */

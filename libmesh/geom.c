@@ -50,9 +50,18 @@ double cell_perimeter(const mesh *m, const double *r, int k)
 	return p;
 }
 
+/* Vertices above which the tissue's arrays (~100 bytes per vertex) no
+ * longer stay in the cache, and the kernel trades instructions for bytes
+ * (bench/RESULTS.md). */
+#ifndef KERNEL_BIG_NV
+#define KERNEL_BIG_NV 65536
+#endif
+
 struct energy_ws {
 	int nc, nj;
 	double *len;  /* per junction: its length */
+	double *vec;  /* 2 per junction: its vector; NULL on a large tissue,
+	                 where the gradient pass computes it again */
 	double *cc;   /* 2 per cell: dW/dA, dW/dP */
 };
 
@@ -64,8 +73,9 @@ energy_ws *energy_ws_alloc(const mesh *m)
 	w->nc = m->nc;
 	w->nj = m->nj;
 	w->len = malloc(((size_t)m->nj + 1) * sizeof *w->len);
+	w->vec = m->nv <= KERNEL_BIG_NV ? malloc((2 * (size_t)m->nj + 1) * sizeof *w->vec) : NULL;
 	w->cc = malloc((2 * (size_t)m->nc + 1) * sizeof *w->cc);
-	if (w->len == NULL || w->cc == NULL) {
+	if (w->len == NULL || w->cc == NULL || (m->nv <= KERNEL_BIG_NV && w->vec == NULL)) {
 		energy_ws_free(w);
 		return NULL;
 	}
@@ -77,6 +87,7 @@ void energy_ws_free(energy_ws *w)
 	if (w == NULL)
 		return;
 	free(w->len);
+	free(w->vec);
 	free(w->cc);
 	free(w);
 }
@@ -178,6 +189,10 @@ jvec(const mesh *m, const v2d *r2, int j, int packed, int *a, int *b)
  * between passes (the third pass computes the vectors again, from
  * coordinates that the spatial order keeps in cache), and with packed
  * codes (mesh_kernel_build) a corner is 4 bytes and a junction 8. */
+/* packed: 0 reads the double arrays; 1 the codes, keeping the junction
+ * vectors for the gradient pass (a tissue in cache, where instructions
+ * count); 2 the codes with lengths only and the fused gradient pass below
+ * (a tissue in memory, where bytes count). */
 static inline __attribute__((always_inline)) double
 energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
               double *grad, double *g2max, energy_ws *w, const int packed)
@@ -185,9 +200,12 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 	const int nj = m->nj, nc = m->nc;
 	const v2d *r2 = (const v2d *)r;
 	double *restrict len = w->len, *restrict cc = w->cc;
+	v2d *restrict vec = (v2d *)w->vec;
 	for (int j = 0; j < nj; j++) {
 		int a, b;
 		v2d d = jvec(m, r2, j, packed, &a, &b), q = d * d;
+		if (packed == 1)
+			vec[j] = d;
 		len[j] = sqrt(q[0] + q[1]);
 	}
 
@@ -223,12 +241,19 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 
 	v2d *g2 = (v2d *)grad;
 	const int *restrict jc = m->jc;
-	if (!packed) {
+	if (packed < 2) {
 		for (int v = 0; v < m->nv; v++)
 			g2[v] = (v2d){ 0, 0 };
 		for (int j = 0; j < nj; j++) {
 			int L = jc[2 * j], R = jc[2 * j + 1], a, b;
-			v2d d = jvec(m, r2, j, 0, &a, &b);
+			v2d d;
+			if (packed == 1) {
+				a = m->jv[2 * j];
+				b = m->jv[2 * j + 1];
+				d = vec[j];
+			} else {
+				d = jvec(m, r2, j, 0, &a, &b);
+			}
 			double t = (cc[2 * L + 1] + cc[2 * R + 1] + (dg ? dg[j] : 0.0)) / len[j];
 			double h = 0.5 * (cc[2 * L] - cc[2 * R]);
 			v2d perp = (v2d){ h, -h } * v2d_swap(d), tan = t * d;
@@ -239,12 +264,14 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			*g2max = gmax2(m->nv, g2);
 		return W;
 	}
-	/* Packed: a vertex's sum starts at its first junction (0 + term, the
-	 * same number as adding to a zeroed array) and is complete at its
-	 * last, where its square enters the maximum: no pass to zero the
-	 * gradient and none to find the largest force.  Masks instead of
-	 * branches, as first and last follow no pattern the branch
-	 * predictor learns. */
+	/* A tissue larger than the caches: a vertex's sum starts at its first
+	 * junction (0 + term, the same number as adding to a zeroed array)
+	 * and is complete at its last, where its square enters the maximum:
+	 * no pass to zero the gradient and none to find the largest force,
+	 * 48 bytes per vertex less from memory, for about 10 instructions
+	 * more per junction, which in cache cost more than they save.
+	 * Masks instead of branches, as first and last follow no pattern
+	 * the branch predictor learns. */
 	const unsigned *restrict kjv = m->kjv;
 	double q2 = 0;
 	for (int j = 0; j < nj; j++) {
@@ -273,20 +300,20 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 	return W;
 }
 
-double mesh_energy_tension(const mesh *m, const double *r, const model *p,
-                           const double *dg, double *grad, energy_ws *w)
-{
-	if (m->kok)
-		return energy_kernel(m, r, p, dg, grad, NULL, w, 1);
-	return energy_kernel(m, r, p, dg, grad, NULL, w, 0);
-}
-
 double mesh_energy_force(const mesh *m, const double *r, const model *p,
                          const double *dg, double *grad, double *g2max, energy_ws *w)
 {
+	if (m->kok && w->vec == NULL)
+		return energy_kernel(m, r, p, dg, grad, g2max, w, 2);
 	if (m->kok)
 		return energy_kernel(m, r, p, dg, grad, g2max, w, 1);
 	return energy_kernel(m, r, p, dg, grad, g2max, w, 0);
+}
+
+double mesh_energy_tension(const mesh *m, const double *r, const model *p,
+                           const double *dg, double *grad, energy_ws *w)
+{
+	return mesh_energy_force(m, r, p, dg, grad, NULL, w);
 }
 
 double grad_max_norm(int nv, const double *g)

@@ -78,7 +78,7 @@ static int packed_same(const mesh *m, const model *p, const double *dg)
 
 int main(void)
 {
-	tap_plan(21);
+	tap_plan(22);
 	mesh *m;
 	mesh_error err;
 	ok(lattice_honeycomb(18, 18, &m, &err) == MESH_OK, "18x18 honeycomb builds");
@@ -171,6 +171,17 @@ int main(void)
 		mesh_free(far);
 		ok(packed_same(s, &p, dg) && s->nkx >= 3, "offsets in x: %d codes", s->nkx);
 		free(dg);
+		/* more than 65536 vertices: the form for tissues out of cache */
+		mesh *big;
+		lattice_honeycomb(186, 186, &big, &err);
+		perturb(big, 0.05, 3);
+		dg = malloc(big->nj * sizeof *dg);
+		for (int j = 0; j < big->nj; j++)
+			dg[j] = 0.3 * sin(1.7 * j);
+		ok(big->nv > 65536 && packed_same(big, &p, dg) && packed_same(big, &p, NULL),
+		   "%d vertices: packed kernel bit for bit as unpacked", big->nv);
+		free(dg);
+		mesh_free(big);
 	}
 	/* Energy does not care where the box edge is. */
 	energy_ws *ws = energy_ws_alloc(s);
