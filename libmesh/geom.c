@@ -50,9 +50,10 @@ double cell_perimeter(const mesh *m, const double *r, int k)
 	return p;
 }
 
-/* Vertices above which the tissue's arrays (~100 bytes per vertex) no
+/* Vertices above which the tissue's arrays (~150 bytes per vertex) no
  * longer stay in the cache, and the kernel trades instructions for bytes
- * (bench/RESULTS.md). */
+ * (bench/RESULTS.md, "The kernel, per vertex"): below, the packed codes
+ * and the fused pass cost 1-4 % more time than they save. */
 #ifndef KERNEL_BIG_NV
 #define KERNEL_BIG_NV 65536
 #endif
@@ -114,7 +115,17 @@ void mesh_junction_vectors(const mesh *m, const double *r, double *jd)
 
 /* The area is the shoelace sum relative to the first corner; its cross
  * products are accumulated as pairs (sum of x_i y_j and of y_i x_j apart)
- * and subtracted once per cell. */
+ * and subtracted once per cell.  From them and the perimeter: dW/dA and
+ * dW/dP into f[0], f[1], and the cell's energy. */
+static inline double cell_factor(v2d acc, double per, double ka, double p0, double *f)
+{
+	double a = 0.5 * (acc[0] - acc[1]);
+	double da = a - 1, dp = per - p0;
+	f[0] = 2 * ka * da;
+	f[1] = 2 * dp;
+	return ka * da * da + dp * dp;
+}
+
 double mesh_cell_factors(const mesh *m, const double *r, const model *p,
                          const double *jd, double *cc)
 {
@@ -134,11 +145,7 @@ double mesh_cell_factors(const mesh *m, const double *r, const model *p,
 			per += jd[3 * cj[i] + 2];
 			prev = q;
 		}
-		double a = 0.5 * (acc[0] - acc[1]);
-		double da = a - 1, dp = per - p0;
-		W += ka * da * da + dp * dp;
-		cc[2 * k] = 2 * ka * da;
-		cc[2 * k + 1] = 2 * dp;
+		W += cell_factor(acc, per, ka, p0, cc + 2 * k);
 	}
 	return W;
 }
@@ -189,14 +196,15 @@ jvec(const mesh *m, const v2d *r2, int j, int packed, int *a, int *b)
  * between passes (the third pass computes the vectors again, from
  * coordinates that the spatial order keeps in cache), and with packed
  * codes (mesh_kernel_build) a corner is 4 bytes and a junction 8. */
-/* packed: 0 reads the double arrays; 1 the codes, keeping the junction
- * vectors for the gradient pass (a tissue in cache, where instructions
- * count); 2 the codes with lengths only and the fused gradient pass below
- * (a tissue in memory, where bytes count). */
+/* form 0, a tissue in cache, where instructions count: the double
+ * arrays, the junction vectors kept for the gradient pass.  2, a tissue in
+ * memory, where bytes count: the codes, lengths only and the fused
+ * gradient pass below.  1: form 2 without the codes (kok = 0). */
 static inline __attribute__((always_inline)) double
 energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
-              double *grad, double *g2max, energy_ws *w, const int packed)
+              double *grad, double *g2max, energy_ws *w, const int form)
 {
+	const int packed = form == 2;
 	const int nj = m->nj, nc = m->nc;
 	const v2d *r2 = (const v2d *)r;
 	double *restrict len = w->len, *restrict cc = w->cc;
@@ -204,7 +212,7 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 	for (int j = 0; j < nj; j++) {
 		int a, b;
 		v2d d = jvec(m, r2, j, packed, &a, &b), q = d * d;
-		if (packed == 1)
+		if (form == 0)
 			vec[j] = d;
 		len[j] = sqrt(q[0] + q[1]);
 	}
@@ -230,24 +238,20 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			per += len[cj[i]];
 			prev = q;
 		}
-		double a = 0.5 * (acc[0] - acc[1]);
-		double da = a - 1, dp = per - p0;
-		W += ka * da * da + dp * dp;
-		cc[2 * k] = 2 * ka * da;
-		cc[2 * k + 1] = 2 * dp;
+		W += cell_factor(acc, per, ka, p0, cc + 2 * k);
 	}
 	if (grad == NULL)
 		return W;
 
 	v2d *g2 = (v2d *)grad;
 	const int *restrict jc = m->jc;
-	if (packed < 2) {
+	if (form < 2) {
 		for (int v = 0; v < m->nv; v++)
 			g2[v] = (v2d){ 0, 0 };
 		for (int j = 0; j < nj; j++) {
 			int L = jc[2 * j], R = jc[2 * j + 1], a, b;
 			v2d d;
-			if (packed == 1) {
+			if (form == 0) {
 				a = m->jv[2 * j];
 				b = m->jv[2 * j + 1];
 				d = vec[j];
@@ -303,11 +307,11 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 double mesh_energy_force(const mesh *m, const double *r, const model *p,
                          const double *dg, double *grad, double *g2max, energy_ws *w)
 {
-	if (m->kok && w->vec == NULL)
-		return energy_kernel(m, r, p, dg, grad, g2max, w, 2);
+	if (w->vec)
+		return energy_kernel(m, r, p, dg, grad, g2max, w, 0);
 	if (m->kok)
-		return energy_kernel(m, r, p, dg, grad, g2max, w, 1);
-	return energy_kernel(m, r, p, dg, grad, g2max, w, 0);
+		return energy_kernel(m, r, p, dg, grad, g2max, w, 2);
+	return energy_kernel(m, r, p, dg, grad, g2max, w, 1);
 }
 
 double mesh_energy_tension(const mesh *m, const double *r, const model *p,

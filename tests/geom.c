@@ -161,7 +161,7 @@ int main(void)
 		for (int j = 0; j < s->nj; j++)
 			dg[j] = 0.3 * sin(1.7 * j);
 		ok(packed_same(m, &p, NULL) && packed_same(s, &p, NULL) && packed_same(s, &p, dg),
-		   "packed kernel: energy, gradient and largest force bit for bit as unpacked");
+		   "small tissues: energy, gradient and largest force bit for bit with and without codes");
 		/* more offsets than the codes hold (vertices many boxes away) */
 		mesh *far = mesh_copy(s);
 		for (int j = 0; j < 9; j++)
