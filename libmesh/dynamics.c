@@ -423,6 +423,7 @@ static int settle(dyn *d, double t_end, double lshort)
 	memcpy(m->r, c->r, 2 * (size_t)m->nv * sizeof *m->r);
 	memcpy(m->jimg, c->jimg, 2 * (size_t)m->nj * sizeof *m->jimg);
 	memcpy(m->cimg, c->cimg, 2 * nk * sizeof *m->cimg);
+	mesh_kernel_build(m);
 	mesh_free(c);
 	/* the minimum is that of W alone: the tensions (at most settle, and
 	 * decaying) are dropped, as stepping drops them once they decay */
@@ -507,7 +508,11 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				 * have collapsed may succeed once it has flipped */
 				if (d->c.nt1 > nt1 && fsettle > 0)
 					fsettle = o.settle;
-				d->lmax_ok = 0;   /* T1s moved vertices */
+				/* a T1 moves its two vertices by at most half the
+				 * old length plus half the new: the bound on the
+				 * junctions' growth takes that instead of every
+				 * junction being measured again */
+				d->ldisp += (double)(d->c.nt1 - nt1) * 0.5 * (o.t1_length + o.t1_new) * (1 + 1e-9);
 				/* T1s scatter neighbouring cells over the cell
 				 * table, and a T1's cost grows with the spread;
 				 * renumbering costs about as much as 10 T1s */
@@ -530,13 +535,9 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		}
 		double *dg = m->dg;
 		/* f is the gradient of W + sum dg l: the force with its sign flipped */
-		mesh_energy_tension(m, r, &d->p, dg, f, d->ws);
+		double f2;
+		mesh_energy_force(m, r, &d->p, dg, f, &f2, d->ws);
 		const v2d *fv = (const v2d *)f;
-		double f2 = 0;
-		for (int v = 0; v < nv; v++) {
-			v2d q = fv[v] * fv[v];
-			f2 = q[0] + q[1] > f2 ? q[0] + q[1] : f2;
-		}
 		if (!isfinite(f2))
 			return mesh_error_set(err, 0, MESH_EDOM, "forces became non-finite at step %ld, "
 			                      "t = %.10g", d->c.nstep, d->c.t);
@@ -575,9 +576,9 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		}
 		if (feedback) {
 			/* dl/dt = e.(F_b - F_a) with F = -f; the increment is applied
-			 * after the exact OU step.  The junction vectors are the
-			 * energy's, at these coordinates. */
-			const double *wj = energy_ws_vectors(d->ws);
+			 * after the exact OU step.  The lengths are the energy's, at
+			 * these coordinates, the vectors its expression. */
+			const double *wl = energy_ws_lengths(d->ws);
 			const unsigned char *act = d->active;
 			for (int j = 0; j < nj; j++) {
 				if (act && !act[j])
@@ -585,13 +586,14 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				int a = m->jv[2 * j], b = m->jv[2 * j + 1];
 				/* -dt (gamma0 + dg) (dl/dt)/l with dl/dt = -d.(f_b - f_a)/l:
 				 * one division */
-				double l = wj[3 * j + 2];
+				double l = wl[j];
 				if (o.split) {
 					d->ldot[j] = l;   /* the length before the step */
 					continue;
 				}
-				double dot = wj[3 * j] * (f[2 * b] - f[2 * a]) +
-					     wj[3 * j + 1] * (f[2 * b + 1] - f[2 * a + 1]);
+				double dx = r[2 * b] - r[2 * a] + m->jimg[2 * j];
+				double dy = r[2 * b + 1] - r[2 * a + 1] + m->jimg[2 * j + 1];
+				double dot = dx * (f[2 * b] - f[2 * a]) + dy * (f[2 * b + 1] - f[2 * a + 1]);
 				d->ldot[j] = dt * (o.gamma0 + dg[j]) * dot / (l * l);
 				if (!isfinite(d->ldot[j]))
 					return mesh_error_set(err, 0, MESH_EDOM, "the tension of junction "
@@ -827,6 +829,7 @@ static int reorder_junctions(mesh *m, const char *text, mesh_error *err)
 	memcpy(m->jimg, jimg, 2 * (size_t)nj * sizeof *jimg);
 	if (dg)
 		memcpy(m->dg, dg, (size_t)nj * sizeof *dg);
+	mesh_kernel_build(m);
 out:
 	free(perm);
 	free(jv);

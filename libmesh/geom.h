@@ -56,10 +56,16 @@ double mesh_energy(const mesh *m, const double *r, const model *p,
 double mesh_energy_tension(const mesh *m, const double *r, const model *p,
                            const double *dg, double *grad, energy_ws *w);
 
-/* The junction vectors and lengths (jd as mesh_junction_vectors gives
- * them, 3 per junction) of w's last energy evaluation: code that needs
- * them at the same coordinates does not compute them again. */
-const double *energy_ws_vectors(const energy_ws *w);
+/* mesh_energy_tension (grad not NULL), and the largest |grad_i|^2 over
+ * the vertices into *g2max (NaNs passed over) in the same pass: what an
+ * explicit step needs for its step length. */
+double mesh_energy_force(const mesh *m, const double *r, const model *p,
+                         const double *dg, double *grad, double *g2max, energy_ws *w);
+
+/* The junction lengths (nj, as mesh_junction_vectors gives them) of w's
+ * last energy evaluation: code that needs them at the same coordinates
+ * does not compute them again. */
+const double *energy_ws_lengths(const energy_ws *w);
 
 /* Largest |grad_i| over vertices of a gradient vector. */
 double grad_max_norm(int nv, const double *grad);

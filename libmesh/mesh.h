@@ -64,6 +64,23 @@ typedef struct mesh {
 
 	double *dg;        /* nj junction tensions, or NULL when no junction has state */
 
+	/* Derived, for the energy kernel (mesh_kernel_build): the image
+	 * offsets above as 6-bit codes packed above the vertex ids, so that a
+	 * pass over the tissue reads 4 bytes per corner and 8 per junction
+	 * instead of 20 and 24 (bench/RESULTS.md).  kimg holds each code's
+	 * (x, y) offset, bit for bit the value in cimg or jimg, so the kernel
+	 * computes the same numbers either way. */
+	unsigned *kcv;     /* per corner: cv[i] | code of cimg[i] << MESH_KSHIFT */
+	unsigned *kjv;     /* 2 per junction: jv[2j] | code of jimg[j] << MESH_KSHIFT,
+	                      then jv[2j+1] | flags << MESH_KSHIFT: MESH_KFIRST_A
+	                      (B) when j is the lowest-numbered junction at its
+	                      vertex a (b), MESH_KLAST_A (B) the highest */
+	double kimg[2 * 64];
+	double kx[8], ky[8];  /* the distinct offsets per axis; code = ix + 8 iy */
+	int nkx, nky;
+	int kok;           /* kcv, kjv and kimg are valid; else the kernel reads
+	                      cv, jv, cimg, jimg */
+
 	int nparam;
 	mesh_param *param;
 	int nhist;
@@ -107,6 +124,25 @@ int mesh_read(FILE *f, long *line, mesh **out, mesh_error *err);
 /* Write m in tismesh 1 format, coordinates wrapped into the box, numbers with
  * %.17g so they read back exactly.  MESH_EIO on a write error. */
 int mesh_write(FILE *f, const mesh *m);
+
+/* The packed vertex ids and image codes (kcv, kjv) hold vertex ids below
+ * 2^MESH_KSHIFT. */
+#define MESH_KSHIFT 26
+#define MESH_KMASK ((1u << MESH_KSHIFT) - 1)
+enum { MESH_KFIRST_A = 1, MESH_KFIRST_B = 2, MESH_KLAST_A = 4, MESH_KLAST_B = 8 };
+
+/* Derive kcv, kjv and kimg from cv, jv, cimg and jimg (mesh_build,
+ * mesh_wrap, mesh_t1 and mesh_order_spatial do): code that changes those
+ * arrays directly calls it afterwards.  When the ids or the offsets do not
+ * fit (2^MESH_KSHIFT vertices, 8 distinct offsets per axis) or memory is
+ * short, kok is 0 and the kernel reads the arrays themselves. */
+void mesh_kernel_build(mesh *m);
+
+/* The same for corners c0 <= i < c1 and the n junctions js[0..n) only,
+ * after a local change (a T1), where every vertex that a junction in js
+ * gained or lost has all its junctions in js; kok becomes 0 if a new
+ * offset does not fit. */
+void mesh_kernel_update(mesh *m, int c0, int c1, const int *js, int n);
 
 /* Move every vertex into [0,lx) x [0,ly) and recompute the image offsets. */
 void mesh_wrap(mesh *m);

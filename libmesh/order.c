@@ -192,6 +192,7 @@ int mesh_order_spatial(mesh *m, int what)
 	memcpy(m->cv, cv, nk * sizeof *cv);
 	memcpy(m->cj, cj, nk * sizeof *cj);
 	memcpy(m->cimg, cimg, 2 * nk * sizeof *cimg);
+	mesh_kernel_build(m);
 	st = MESH_OK;
 out:
 	free(newk);

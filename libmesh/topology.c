@@ -103,10 +103,12 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 	}
 	int base = m->coff[kmin];
 	size_t len = (size_t)(m->coff[kmax + 1] - base) + 1, ncell = (size_t)(kmax - kmin) + 2;
-	double *ncimg = malloc(2 * len * sizeof *ncimg + (2 * len + ncell) * sizeof(int));
+	double *ncimg = malloc(2 * len * sizeof *ncimg + (2 * len + ncell) * sizeof(int) +
+	                       len * sizeof(unsigned));
 	if (ncimg == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	int *ncv = (int *)(ncimg + 2 * len), *ncj = ncv + len, *ncoff = ncj + len;
+	unsigned *nkcv = (unsigned *)(ncoff + ncell);  /* the four cells' are recoded */
 
 	/* The five junctions at a and b after the T1: a-t is b-t, b-q is a-q. */
 	int jj[5] = { j, jpa, jat, jbq, jsb };
@@ -154,6 +156,8 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 			memcpy(ncv + w, m->cv + c0, n * sizeof *ncv);
 			memcpy(ncj + w, m->cj + c0, n * sizeof *ncj);
 			memcpy(ncimg + 2 * (size_t)w, m->cimg + 2 * (size_t)c0, 2 * n * sizeof *ncimg);
+			if (m->kok)
+				memcpy(nkcv + w, m->kcv + c0, n * sizeof *nkcv);
 			for (int kk = k; kk <= k1; kk++)
 				ncoff[kk + 1 - kmin] = w + m->coff[kk + 1] - c0;
 			w += (int)n;
@@ -244,6 +248,8 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 	memcpy(m->cv + base, ncv, (size_t)w * sizeof *ncv);
 	memcpy(m->cj + base, ncj, (size_t)w * sizeof *ncj);
 	memcpy(m->cimg + 2 * (size_t)base, ncimg, 2 * (size_t)w * sizeof *ncimg);
+	if (m->kok)
+		memcpy(m->kcv + base, nkcv, (size_t)w * sizeof *nkcv);
 	for (int k = kmin; k <= kmax; k++)
 		m->coff[k + 1] = base + ncoff[k + 1 - kmin];
 	free(ncimg);
@@ -263,6 +269,9 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 	m->jc[2 * j + 1] = Ca;
 	if (m->dg)
 		m->dg[j] = 0;
+	for (int i = 0; i < 4; i++)
+		mesh_kernel_update(m, m->coff[four[i]], m->coff[four[i] + 1], NULL, 0);
+	mesh_kernel_update(m, 0, 0, jj, 5);
 	if (touched)
 		memcpy(touched, jj, sizeof jj);
 	return MESH_OK;

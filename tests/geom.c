@@ -2,6 +2,7 @@
  * differences on perturbed and irregular meshes, area invariants. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "geom.h"
 #include "lattice.h"
@@ -48,9 +49,36 @@ static double fd_error(const mesh *m, const model *p, double h)
 	return emax;
 }
 
+/* The packed kernel (mesh_kernel_build) against the same mesh read from
+ * its double arrays (kok = 0): energy, gradient and largest force bit
+ * for bit, with and without tensions. */
+static int packed_same(const mesh *m, const model *p, const double *dg)
+{
+	mesh *u = mesh_copy(m);
+	if (u == NULL || !m->kok)
+		return 0;
+	u->kok = 0;
+	int n = 2 * m->nv, same = 1;
+	energy_ws *w = energy_ws_alloc(m);
+	double *g1 = malloc(n * sizeof *g1), *g2 = malloc(n * sizeof *g2), q1, q2, q3 = 0;
+	double W1 = mesh_energy_force(m, m->r, p, dg, g1, &q1, w);
+	double W2 = mesh_energy_force(u, u->r, p, dg, g2, &q2, w);
+	for (int v = 0; v < m->nv; v++)
+		q3 = fmax(q3, g2[2 * v] * g2[2 * v] + g2[2 * v + 1] * g2[2 * v + 1]);
+	same = memcmp(&W1, &W2, sizeof W1) == 0 && memcmp(g1, g2, n * sizeof *g1) == 0 &&
+	       q1 == q2 && q2 == q3 && mesh_energy(m, m->r, p, NULL, w) == W1;
+	mesh_energy_tension(m, m->r, p, dg, g1, w);
+	same = same && memcmp(g1, g2, n * sizeof *g1) == 0;
+	free(g1);
+	free(g2);
+	energy_ws_free(w);
+	mesh_free(u);
+	return same;
+}
+
 int main(void)
 {
-	tap_plan(18);
+	tap_plan(22);
 	mesh *m;
 	mesh_error err;
 	ok(lattice_honeycomb(18, 18, &m, &err) == MESH_OK, "18x18 honeycomb builds");
@@ -126,6 +154,34 @@ int main(void)
 		free(dg);
 		free(ga);
 		energy_ws_free(tw);
+	}
+	/* The packed kernel computes the same numbers as the double arrays. */
+	{
+		double *dg = malloc(s->nj * sizeof *dg);
+		for (int j = 0; j < s->nj; j++)
+			dg[j] = 0.3 * sin(1.7 * j);
+		ok(packed_same(m, &p, NULL) && packed_same(s, &p, NULL) && packed_same(s, &p, dg),
+		   "small tissues: energy, gradient and largest force bit for bit with and without codes");
+		/* more offsets than the codes hold (vertices many boxes away) */
+		mesh *far = mesh_copy(s);
+		for (int j = 0; j < 9; j++)
+			far->jimg[2 * j] = j * far->lx;
+		mesh_kernel_build(far);
+		ok(!far->kok, "9 distinct offsets on an axis: the kernel reads the double arrays");
+		mesh_free(far);
+		ok(packed_same(s, &p, dg) && s->nkx >= 3, "offsets in x: %d codes", s->nkx);
+		free(dg);
+		/* more than 65536 vertices: the form for tissues out of cache */
+		mesh *big;
+		lattice_honeycomb(186, 186, &big, &err);
+		perturb(big, 0.05, 3);
+		dg = malloc(big->nj * sizeof *dg);
+		for (int j = 0; j < big->nj; j++)
+			dg[j] = 0.3 * sin(1.7 * j);
+		ok(big->nv > 65536 && packed_same(big, &p, dg) && packed_same(big, &p, NULL),
+		   "%d vertices: packed kernel bit for bit as unpacked", big->nv);
+		free(dg);
+		mesh_free(big);
 	}
 	/* Energy does not care where the box edge is. */
 	energy_ws *ws = energy_ws_alloc(s);

@@ -17,6 +17,28 @@
 #include "topology.h"
 #include "voronoi.h"
 
+/* The kernel's packed copy (mesh_kernel_update after each T1) decodes to
+ * the mesh's arrays bit for bit, with the first and last flags of a fresh
+ * mesh_kernel_build. */
+static int kernel_consistent(const mesh *m)
+{
+	if (!m->kok)
+		return 0;
+	mesh *f = mesh_copy(m);
+	mesh_kernel_build(f);
+	int good = f->kok;
+	for (int i = 0; good && i < m->coff[m->nc]; i++)
+		good = (int)(m->kcv[i] & MESH_KMASK) == m->cv[i] &&
+		       memcmp(m->kimg + 2 * (m->kcv[i] >> MESH_KSHIFT), m->cimg + 2 * i, 2 * sizeof(double)) == 0;
+	for (int j = 0; good && j < m->nj; j++)
+		good = (int)(m->kjv[2 * j] & MESH_KMASK) == m->jv[2 * j] &&
+		       (int)(m->kjv[2 * j + 1] & MESH_KMASK) == m->jv[2 * j + 1] &&
+		       memcmp(m->kimg + 2 * (m->kjv[2 * j] >> MESH_KSHIFT), m->jimg + 2 * j, 2 * sizeof(double)) == 0 &&
+		       m->kjv[2 * j + 1] >> MESH_KSHIFT == f->kjv[2 * j + 1] >> MESH_KSHIFT;
+	mesh_free(f);
+	return good;
+}
+
 static int valid(const mesh *m, const model *p)
 {
 	mesh *c = mesh_copy(m);
@@ -36,6 +58,10 @@ static int valid(const mesh *m, const model *p)
 	int good = fabs(W1 - W2) <= 1e-10 * (1 + W2) && gd <= 1e-9;
 	if (!good)
 		diag("energy %.17g vs rebuilt %.17g, gradient diff %.3g", W1, W2, gd);
+	if (!kernel_consistent(m)) {
+		diag("the kernel's packed offsets or flags are not those of the mesh");
+		good = 0;
+	}
 	/* tensions kept by vertex pair in the rebuilt copy must agree */
 	if (m->dg)
 		for (int j = 0; j < m->nj; j++) {
