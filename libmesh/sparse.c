@@ -186,6 +186,7 @@ struct spchol {
 	long *fp;              /* nsn + 1: offsets into bf (the solve's layout) */
 	float *bf;
 	void (*solve)(const spchol *c, const double *b, double *x);
+	int (*factor)(spchol *c, const spsym *a, double shift);
 	long *amap;            /* position in bx of each entry of A */
 	float *yf, *acc;       /* n and n + 8: solve scratch */
 	int *head, *next, *pos, *rel;  /* left-looking update lists, row map */
@@ -394,33 +395,83 @@ long spchol_nnz(const spchol *c)
 	return (long)c->cm.lnz;
 }
 
-/* Four partial sums: a single one is a chain of dependent additions. */
-static inline double dotd(const double *a, const double *b, int n)
+/* The numeric factorization, like the solve below, is written once on
+ * 4-lane double vectors and built portable and AVX2 (factor_portable,
+ * factor_avx2): the same operations in the same order, the same bits.
+ * The vector types and helpers are declared here for both. */
+typedef double v4df __attribute__((vector_size(32)));
+
+/* Every function taking or returning a vector is inlined, so GCC's
+ * warning that such an interface would differ without AVX does not
+ * apply. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+#define KERNEL_INLINE static inline __attribute__((always_inline))
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define SPCHOL_HAVE_AVX2 1
+#define AVX2_TARGET __attribute__((target("avx2")))
+#endif
+
+KERNEL_INLINE v4df ld4d(const double *p)
 {
-	double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+	v4df v;
+	memcpy(&v, p, sizeof v);
+	return v;
+}
+
+/* Four partial sums, lane k taking the terms t = k mod 4 (a single sum is
+ * a chain of dependent additions), the tail into lane 0. */
+KERNEL_INLINE double dotd(const double *a, const double *b, int n)
+{
+	v4df s = { 0, 0, 0, 0 };
+	int t = 0;
+	for (; t + 3 < n; t += 4)
+		s += ld4d(a + t) * ld4d(b + t);
+	for (; t < n; t++)
+		s[0] += a[t] * b[t];
+	return (s[0] + s[1]) + (s[2] + s[3]);
+}
+
+/* dotd of rows a0..a3 with b at once, b loaded once for four. */
+KERNEL_INLINE void dot4d(const double *a0, const double *a1, const double *a2,
+                         const double *a3, const double *b, int n, double out[4])
+{
+	v4df s0 = { 0, 0, 0, 0 }, s1 = s0, s2 = s0, s3 = s0;
 	int t = 0;
 	for (; t + 3 < n; t += 4) {
-		s0 += a[t] * b[t];
-		s1 += a[t + 1] * b[t + 1];
-		s2 += a[t + 2] * b[t + 2];
-		s3 += a[t + 3] * b[t + 3];
+		v4df bv = ld4d(b + t);
+		s0 += ld4d(a0 + t) * bv;
+		s1 += ld4d(a1 + t) * bv;
+		s2 += ld4d(a2 + t) * bv;
+		s3 += ld4d(a3 + t) * bv;
 	}
-	for (; t < n; t++)
-		s0 += a[t] * b[t];
-	return (s0 + s1) + (s2 + s3);
+	for (; t < n; t++) {
+		s0[0] += a0[t] * b[t];
+		s1[0] += a1[t] * b[t];
+		s2[0] += a2[t] * b[t];
+		s3[0] += a3[t] * b[t];
+	}
+	out[0] = (s0[0] + s0[1]) + (s0[2] + s0[3]);
+	out[1] = (s1[0] + s1[1]) + (s1[2] + s1[3]);
+	out[2] = (s2[0] + s2[1]) + (s2[2] + s2[3]);
+	out[3] = (s3[0] + s3[1]) + (s3[2] + s3[3]);
 }
+
+static void to_solve_layout(spchol *c);
 
 /* Supernodal left-looking: supernode J gathers the updates of every
  * earlier supernode K with rows in J's columns; those wait in a linked
  * list headed at the supernode of their next row (George and Liu), so no
  * row structure is stored.  An update is dense: dot products of K's rows,
- * scattered into J's block through the row map rel. */
-static int factor_own(spchol *c, const spsym *a, double shift)
+ * scattered into J's block through the row map rel; the rows below J's
+ * columns (most of them) go in fours against each row of J's. */
+KERNEL_INLINE int factor_body(spchol *c, const spsym *a, double shift)
 {
 	const int nsn = c->nsn;
 	int *head = c->head, *next = c->next, *pos = c->pos, *rel = c->rel;
-	if (c->bx == NULL && (c->bx = calloc((size_t)c->bp[nsn] + 1, sizeof *c->bx)) == NULL)
-		return MESH_ENOMEM;
 	double *bx = c->bx;
 	memset(bx, 0, (size_t)c->bp[nsn] * sizeof *bx);
 	for (int p = 0; p < a->nnz; p++)
@@ -451,11 +502,32 @@ static int factor_own(spchol *c, const spsym *a, double shift)
 			int q = p;
 			while (q < mk && RK[q] < f + w)
 				q++;
-			for (int i = p; i < mk; i++) {
+			for (int i = p; i < q; i++) {
 				const double *Li = LK + (long)i * wk;
 				double *Fi = F + (long)rel[RK[i]] * w - f;
-				int jmax = i < q ? i : q - 1;
-				for (int j = p; j <= jmax; j++)
+				for (int j = p; j <= i; j++)
+					Fi[RK[j]] -= dotd(Li, LK + (long)j * wk, wk);
+			}
+			int i = q;
+			for (; i + 3 < mk; i += 4) {
+				const double *L0 = LK + (long)i * wk;
+				double *F0 = F + (long)rel[RK[i]] * w - f;
+				double *F1 = F + (long)rel[RK[i + 1]] * w - f;
+				double *F2 = F + (long)rel[RK[i + 2]] * w - f;
+				double *F3 = F + (long)rel[RK[i + 3]] * w - f;
+				for (int j = p; j < q; j++) {
+					double d[4];
+					dot4d(L0, L0 + wk, L0 + 2 * wk, L0 + 3 * wk, LK + (long)j * wk, wk, d);
+					F0[RK[j]] -= d[0];
+					F1[RK[j]] -= d[1];
+					F2[RK[j]] -= d[2];
+					F3[RK[j]] -= d[3];
+				}
+			}
+			for (; i < mk; i++) {
+				const double *Li = LK + (long)i * wk;
+				double *Fi = F + (long)rel[RK[i]] * w - f;
+				for (int j = p; j < q; j++)
 					Fi[RK[j]] -= dotd(Li, LK + (long)j * wk, wk);
 			}
 			if (q < mk) {
@@ -473,7 +545,17 @@ static int factor_own(spchol *c, const spsym *a, double shift)
 				return MESH_EDOM;
 			d = sqrt(d);
 			Ft[t] = d;
-			for (int u = t + 1; u < m; u++) {
+			int u = t + 1;
+			for (; u + 3 < m; u += 4) {
+				double *Fu = F + (long)u * w;
+				double dd[4];
+				dot4d(Fu, Fu + w, Fu + 2 * w, Fu + 3 * w, Ft, t, dd);
+				Fu[t] = (Fu[t] - dd[0]) / d;
+				Fu[w + t] = (Fu[w + t] - dd[1]) / d;
+				Fu[2 * w + t] = (Fu[2 * w + t] - dd[2]) / d;
+				Fu[3 * w + t] = (Fu[3 * w + t] - dd[3]) / d;
+			}
+			for (; u < m; u++) {
 				double *Fu = F + (long)u * w;
 				Fu[t] = (Fu[t] - dotd(Fu, Ft, t)) / d;
 			}
@@ -485,8 +567,37 @@ static int factor_own(spchol *c, const spsym *a, double shift)
 			head[S2] = J;
 		}
 	}
-	/* to the solve's layout: columns, the diagonal inverted */
-	for (int S = 0; S < nsn; S++) {
+	return MESH_OK;
+}
+
+static int factor_portable(spchol *c, const spsym *a, double shift)
+{
+	return factor_body(c, a, shift);
+}
+
+#ifdef SPCHOL_HAVE_AVX2
+AVX2_TARGET static int factor_avx2(spchol *c, const spsym *a, double shift)
+{
+	return factor_body(c, a, shift);
+}
+#endif
+
+static int factor_own(spchol *c, const spsym *a, double shift)
+{
+	if (c->bx == NULL && (c->bx = calloc((size_t)c->bp[c->nsn] + 1, sizeof *c->bx)) == NULL)
+		return MESH_ENOMEM;
+	int st = c->factor(c, a, shift);
+	if (st == MESH_OK)
+		to_solve_layout(c);
+	return st;
+}
+
+/* The double-precision factor to the solve's layout (below): by columns,
+ * the diagonal inverted, single precision. */
+static void to_solve_layout(spchol *c)
+{
+	const double *bx = c->bx;
+	for (int S = 0; S < c->nsn; S++) {
 		int w = c->sf[S + 1] - c->sf[S], m = (int)(c->rp[S + 1] - c->rp[S]);
 		int mp = pad8(m - w);
 		const double *B = bx + c->bp[S];
@@ -500,8 +611,6 @@ static int factor_own(spchol *c, const spsym *a, double shift)
 				O[(size_t)t * mp + u - w] = (float)B[(size_t)u * w + t];
 		}
 	}
-	
-return MESH_OK;
 }
 
 /* The smallest squared diagonal entry of CHOLMOD's supernodal L: the
@@ -624,13 +733,7 @@ int spchol_precond(spchol *c, const spsym *a, double *shift)
  * same input (tests/precond.c). */
 typedef float v8sf __attribute__((vector_size(32)));
 
-/* Every function taking or returning a v8sf is inlined, so GCC's warning
- * that such an interface would differ without AVX does not apply. */
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
-
-#define SOLVE_INLINE static inline __attribute__((always_inline))
+#define SOLVE_INLINE KERNEL_INLINE
 
 SOLVE_INLINE v8sf ld8(const float *p)
 {
@@ -809,10 +912,8 @@ static void solve_portable(const spchol *c, const double *b, double *x)
 	solve_body(c, b, x);
 }
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define SPCHOL_HAVE_AVX2 1
-__attribute__((target("avx2"))) static void solve_avx2(const spchol *c, const double *b,
-                                                       double *x)
+#ifdef SPCHOL_HAVE_AVX2
+AVX2_TARGET static void solve_avx2(const spchol *c, const double *b, double *x)
 {
 	solve_body(c, b, x);
 }
@@ -823,10 +924,12 @@ int spchol_simd(spchol *c, int level)
 	if (c->big)
 		return 0;
 	c->solve = solve_portable;
+	c->factor = factor_portable;
 #ifdef SPCHOL_HAVE_AVX2
 	__builtin_cpu_init();
 	if (level >= 1 && __builtin_cpu_supports("avx2")) {
 		c->solve = solve_avx2;
+		c->factor = factor_avx2;
 		return 1;
 	}
 #else
