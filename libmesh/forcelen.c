@@ -25,10 +25,12 @@ void fl_opts_init(fl_opts *o)
 	o->range = 0.3;
 	o->lmin = 0.01;
 	o->back = 1;
-	o->predict = 3;
+	o->predict = 4;
 	min_opts_init(&o->min);
 	/* Newton-CG on the exact Hessian of the parametrized energy: from a
-	 * cubic prediction one or two Newton steps reach 1e-10, where L-BFGS
+	 * quartic prediction one Newton step mostly reaches 1e-10 (from a
+	 * cubic one, two: the quartic one needs 0.68 of the solves with the
+	 * factor rebuilt after slow points, bench/RESULTS.md), where L-BFGS
 	 * stalls at rounding of the energy near 1e-7 and needs the same
 	 * Newton polish anyway (bench/RESULTS.md). */
 	o->min.algo = MIN_NEWTON;
@@ -511,7 +513,6 @@ static int solve_point(fl_ctx *c, const fl_opts *o, int dir, fl_point *pt)
 	double W = fl_objective(w->x, w->xtry, c);
 	double fres = fl_gnorm(n, w->xtry, NULL);
 	double t = w->x[n - 1] / c->l;
-	w->x[n - 1] = t;
 	int a = c->a, b = c->b;
 	const double *g = w->g;
 	pt->l = c->l;
@@ -522,6 +523,17 @@ static int solve_point(fl_ctx *c, const fl_opts *o, int dir, fl_point *pt)
 	pt->npc = rep.npcsetup;
 	pt->dir = dir;
 	pt->status = fres <= o->min.ftol ? MESH_OK : MESH_ENOCONV;
+	/* A point that converged in one Newton step ends before min_run's
+	 * own rebuild (at its next step) however long CG took, and the
+	 * factor would only age: rebuild it here, at this solution, for the
+	 * next point when CG took more than pcmaxit products (bench/
+	 * RESULTS.md: with the quartic predictor most points take a single
+	 * step). */
+	if (mo.precond && pt->status == MESH_OK && rep.nhessvec > o->min.pcmaxit) {
+		fl_pcsetup(w->x, c);
+		pt->npc++;
+	}
+	w->x[n - 1] = t;
 	return MESH_OK;
 }
 
