@@ -98,6 +98,12 @@ struct fl_work {
 	hessian_sparse *hs;
 	spsym *hxs;
 	spchol *ch;
+	/* The assembly of hxs from hs->h, made once per pattern (fl_pattern):
+	 * term k adds h->val[tq[k]] times the weights tw[k] (two of 1, -sin t
+	 * and cos t, coded 3 ki + kj) into hxs->val[tp[k]]. */
+	int *tq, *tp;
+	unsigned char *tw;
+	long nterm;
 	double shift;
 	int have;
 	double *pr, *pg;      /* 2 nv: coordinates and gradient at the build */
@@ -187,6 +193,9 @@ void fl_work_free(fl_work *w)
 	hessian_sparse_free(w->hs);
 	spsym_free(w->hxs);
 	spchol_free(w->ch);
+	free(w->tq);
+	free(w->tp);
+	free(w->tw);
 	free(w);
 }
 
@@ -304,24 +313,28 @@ static void fl_hessvec(const double *x, const double *v, double *hv, void *data)
 
 /* The variables x of r-coordinate i (vertex v = i/2): itself, or for
  * v = b, r_b = r_a + l e(t) - jimg: x_a's coordinate with weight 1 and s
- * with weight u_d, u = (-sin t, cos t).  Returns how many (1 or 2). */
-static int xmap(const fl_ctx *c, int i, double ct, double st, int X[2], double wt[2])
+ * with weight u_d, u = (-sin t, cos t).  Returns how many (1 or 2); wt
+ * gets the weights' codes, 0 for 1, 1 for -sin t, 2 for cos t. */
+static int xmap(const fl_ctx *c, int i, int X[2], int wt[2])
 {
 	int v = i / 2, d = i % 2;
 	if (v != c->b) {
 		X[0] = xi(c, v) + d;
-		wt[0] = 1;
+		wt[0] = 0;
 		return 1;
 	}
 	X[0] = xi(c, c->a) + d;
-	wt[0] = 1;
+	wt[0] = 0;
 	X[1] = c->w->n - 1;
-	wt[1] = d == 0 ? -st : ct;
+	wt[1] = d == 0 ? 1 : 2;
 	return 2;
 }
 
 /* The pattern of H_x = J^T H J (+ the (s, s) curvature): H's pattern with
- * b's rows and columns folded onto a's and s's. */
+ * b's rows and columns folded onto a's and s's.  H_x(X, Y) = sum over
+ * ordered pairs (i, j) of r-coordinates of H_ij J_iX J_jY, each kept once
+ * in the lower triangle: the terms of that sum, in H's order, with their
+ * places in H_x, are listed here once per junction for fl_pcsetup. */
 static int fl_pattern(fl_ctx *c)
 {
 	fl_work *w = c->w;
@@ -332,9 +345,8 @@ static int fl_pattern(fl_ctx *c)
 		return MESH_ENOMEM;
 	for (int j = 0; j < h->n; j++)
 		for (int q = h->colp[j]; q < h->colp[j + 1]; q++) {
-			int Xi[2], Xj[2];
-			double wi[2], wj[2];
-			int ni = xmap(c, h->rowi[q], 1, 1, Xi, wi), nj = xmap(c, j, 1, 1, Xj, wj);
+			int Xi[2], Xj[2], wi[2], wj[2];
+			int ni = xmap(c, h->rowi[q], Xi, wi), nj = xmap(c, j, Xj, wj);
 			for (int u = 0; u < ni; u++)
 				for (int v = 0; v < nj; v++) {
 					ij[2 * np] = Xi[u];
@@ -351,20 +363,38 @@ static int fl_pattern(fl_ctx *c)
 	free(ij);
 	if (w->hxs == NULL || (w->ch = spchol_analyze(w->hxs)) == NULL)
 		return MESH_ENOMEM;
+	free(w->tq);
+	free(w->tp);
+	free(w->tw);
+	w->tq = malloc((2 * (size_t)cap + 1) * sizeof *w->tq);
+	w->tp = malloc((2 * (size_t)cap + 1) * sizeof *w->tp);
+	w->tw = malloc((2 * (size_t)cap + 1) * sizeof *w->tw);
+	if (w->tq == NULL || w->tp == NULL || w->tw == NULL)
+		return MESH_ENOMEM;
+	long k = 0;
+	for (int j = 0; j < h->n; j++)
+		for (int q = h->colp[j]; q < h->colp[j + 1]; q++) {
+			int i = h->rowi[q], Xi[2], Xj[2], wi[2], wj[2];
+			int ni = xmap(c, i, Xi, wi), nj = xmap(c, j, Xj, wj);
+			for (int u = 0; u < ni; u++)
+				for (int v = 0; v < nj; v++)
+					for (int mirror = 0; mirror <= (i != j); mirror++) {
+						int X = mirror ? Xj[v] : Xi[u], Y = mirror ? Xi[u] : Xj[v];
+						int at = X >= Y ? spsym_find(w->hxs, X, Y) : -1;
+						if (at < 0)  /* the upper triangle */
+							continue;
+						w->tq[k] = q;
+						w->tp[k] = at;
+						w->tw[k] = (unsigned char)(3 * wi[u] + wj[v]);
+						k++;
+					}
+		}
+	w->nterm = k;
 	return MESH_OK;
 }
 
-static void hx_add(spsym *hx, int X, int Y, double v)
-{
-	int at = X >= Y ? spsym_find(hx, X, Y) : -1;
-	if (at >= 0)  /* always, as fl_pattern made the pattern the same way */
-		hx->val[at] += v;
-}
-
-/* Build M = H_x + shift I at x: H_x(X, Y) = sum over ordered pairs (i, j)
- * of r-coordinates of H_ij J_iX J_jY, each kept once in the lower
- * triangle, plus the curvature -grad_b W . e / l on (s, s) as in
- * fl_hessvec. */
+/* Build M = H_x + shift I at x: the terms listed by fl_pattern, plus the
+ * curvature -grad_b W . e / l on (s, s) as in fl_hessvec. */
 static int fl_pcsetup(const double *x, void *data)
 {
 	fl_ctx *c = data;
@@ -377,23 +407,15 @@ static int fl_pcsetup(const double *x, void *data)
 	x_to_r(c, x, t, w->pr);
 	mesh_energy(c->m, w->pr, c->p, w->pg, w->ws);
 	mesh_hessian_sparse(c->m, w->pr, c->p, w->hs);
-	const spsym *h = w->hs->h;
+	const double *hv = w->hs->h->val;
 	spsym *hx = w->hxs;
 	spsym_zero(hx);
-	for (int j = 0; j < h->n; j++)
-		for (int q = h->colp[j]; q < h->colp[j + 1]; q++) {
-			int i = h->rowi[q], Xi[2], Xj[2];
-			double wi[2], wj[2], hv = h->val[q];
-			int ni = xmap(c, i, ct, st, Xi, wi), nj = xmap(c, j, ct, st, Xj, wj);
-			for (int u = 0; u < ni; u++)
-				for (int v = 0; v < nj; v++) {
-					hx_add(hx, Xi[u], Xj[v], hv * wi[u] * wj[v]);
-					if (i != j)
-						hx_add(hx, Xj[v], Xi[u], hv * wi[u] * wj[v]);
-				}
-		}
+	const double wt[3] = { 1, -st, ct };
+	for (long k = 0; k < w->nterm; k++)
+		hx->val[w->tp[k]] += hv[w->tq[k]] * wt[w->tw[k] / 3] * wt[w->tw[k] % 3];
 	const double *gb = w->pg + 2 * c->b;
-	hx_add(hx, n - 1, n - 1, -(gb[0] * ct + gb[1] * st) / c->l);
+	int at = spsym_find(hx, n - 1, n - 1);
+	hx->val[at] += -(gb[0] * ct + gb[1] * st) / c->l;
 	if (spchol_precond(w->ch, hx, &w->shift) != MESH_OK)
 		return -1;
 	w->have = 1;
