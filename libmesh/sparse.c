@@ -335,7 +335,7 @@ static int own_setup(spchol *c, const spsym *a)
 	return 0;
 }
 
-spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind)
+static spchol *analyze(const spsym *a, spchol_kind kind, int nmethods)
 {
 	spchol *c = calloc(1, sizeof *c);
 	if (c == NULL)
@@ -352,6 +352,7 @@ spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind)
 	c->cm.quick_return_if_not_posdef = 1;
 	/* Supernodal symbolic structure, whichever numeric path runs. */
 	c->cm.supernodal = CHOLMOD_SUPERNODAL;
+	c->cm.nmethods = nmethods;
 	c->n = a->n;
 	c->annz = a->nnz;
 	c->A = cholmod_allocate_sparse((size_t)a->n, (size_t)a->n, (size_t)a->nnz + 1, 1, 1, -1,
@@ -378,9 +379,22 @@ fail:
 	return NULL;
 }
 
+spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind)
+{
+	/* CHOLMOD's default: AMD, and METIS too when AMD's fill is poor */
+	return analyze(a, kind, 0);
+}
+
 spchol *spchol_analyze(const spsym *a)
 {
 	return spchol_analyze_kind(a, SPCHOL_AUTO);
+}
+
+spchol *spchol_analyze_best(const spsym *a)
+{
+	/* methods 0..2 of CHOLMOD's list: the given ordering (none here),
+	 * AMD, METIS; the one with the fewest entries of L is kept */
+	return analyze(a, SPCHOL_AUTO, 3);
 }
 
 double spchol_bytes(const spchol *c)
