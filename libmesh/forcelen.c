@@ -361,7 +361,7 @@ static int fl_pattern(fl_ctx *c)
 	w->ch = NULL;
 	w->hxs = spsym_alloc(w->n, (int)np, ij);
 	free(ij);
-	if (w->hxs == NULL || (w->ch = spchol_analyze_best(w->hxs)) == NULL)
+	if (w->hxs == NULL || (w->ch = spchol_analyze(w->hxs)) == NULL)
 		return MESH_ENOMEM;
 	free(w->tq);
 	free(w->tp);

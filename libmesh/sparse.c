@@ -335,7 +335,7 @@ static int own_setup(spchol *c, const spsym *a)
 	return 0;
 }
 
-static spchol *analyze(const spsym *a, spchol_kind kind, int nmethods)
+spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind)
 {
 	spchol *c = calloc(1, sizeof *c);
 	if (c == NULL)
@@ -352,7 +352,6 @@ static spchol *analyze(const spsym *a, spchol_kind kind, int nmethods)
 	c->cm.quick_return_if_not_posdef = 1;
 	/* Supernodal symbolic structure, whichever numeric path runs. */
 	c->cm.supernodal = CHOLMOD_SUPERNODAL;
-	c->cm.nmethods = nmethods;
 	c->n = a->n;
 	c->annz = a->nnz;
 	c->A = cholmod_allocate_sparse((size_t)a->n, (size_t)a->n, (size_t)a->nnz + 1, 1, 1, -1,
@@ -379,22 +378,9 @@ fail:
 	return NULL;
 }
 
-spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind)
-{
-	/* CHOLMOD's default: AMD, and METIS too when AMD's fill is poor */
-	return analyze(a, kind, 0);
-}
-
 spchol *spchol_analyze(const spsym *a)
 {
 	return spchol_analyze_kind(a, SPCHOL_AUTO);
-}
-
-spchol *spchol_analyze_best(const spsym *a)
-{
-	/* methods 0..2 of CHOLMOD's list: the given ordering (none here),
-	 * AMD, METIS; the one with the fewest entries of L is kept */
-	return analyze(a, SPCHOL_AUTO, 3);
 }
 
 double spchol_bytes(const spchol *c)
@@ -415,10 +401,13 @@ long spchol_nnz(const spchol *c)
  * The vector types and helpers are declared here for both. */
 typedef double v4df __attribute__((vector_size(32)));
 
-/* Every function taking or returning a vector is inlined, so GCC's
- * warning that such an interface would differ without AVX does not
- * apply. */
-#if defined(__GNUC__) && !defined(__clang__)
+/* Every function taking or returning a vector is inlined, so the
+ * compiler's warning that such an interface would differ without AVX
+ * does not apply. */
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wunknown-warning-option"
+#endif
+#if defined(__GNUC__)
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 
@@ -756,18 +745,18 @@ SOLVE_INLINE v8sf ld8(const float *p)
 	return v;
 }
 
-SOLVE_INLINE void st8(float *p, v8sf v)
-{
-	memcpy(p, &v, sizeof v);
-}
+/* A macro, not a function: GCC notes an ABI change for any vector
+ * passed by value, inlined or not. */
+#define st8(p, v) do { v8sf st8_ = (v); memcpy((p), &st8_, sizeof st8_); } while (0)
 
 SOLVE_INLINE v8sf splat8(float x)
 {
 	return (v8sf){ x, x, x, x, x, x, x, x };
 }
 
-SOLVE_INLINE float hsum8(v8sf s)
+SOLVE_INLINE float hsum8(const v8sf *v)
 {
+	const v8sf s = *v;
 	return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
 }
 
@@ -808,10 +797,10 @@ SOLVE_INLINE void dot4(const float *c0, const float *c1, const float *c2, const 
 		s2 += ld8(c2 + t) * xv;
 		s3 += ld8(c3 + t) * xv;
 	}
-	out[0] = hsum8(s0);
-	out[1] = hsum8(s1);
-	out[2] = hsum8(s2);
-	out[3] = hsum8(s3);
+	out[0] = hsum8(&s0);
+	out[1] = hsum8(&s1);
+	out[2] = hsum8(&s2);
+	out[3] = hsum8(&s3);
 }
 
 SOLVE_INLINE float dot1(const float *c, const float *x, int n)
@@ -819,7 +808,7 @@ SOLVE_INLINE float dot1(const float *c, const float *x, int n)
 	v8sf s = splat8(0);
 	for (int t = 0; t < n; t += 8)
 		s += ld8(c + t) * ld8(x + t);
-	return hsum8(s);
+	return hsum8(&s);
 }
 
 SOLVE_INLINE void solve_body(const spchol *c, const double *b, double *x)

@@ -51,12 +51,6 @@ spchol *spchol_analyze(const spsym *a);
  * spchol_analyze takes SPCHOL_AUTO, which picks by the size of L. */
 typedef enum { SPCHOL_AUTO, SPCHOL_OWN, SPCHOL_CHOLMOD } spchol_kind;
 spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind);
-/* spchol_analyze, both AMD and METIS tried and the ordering with the
- * smaller factor kept: for a pattern factored many times (tis-forcelen's
- * sweeps), about twice the analysis (3.8 against 1.8 ms at 1300
- * variables) for a factor 6 % smaller and ~15 % faster to factor
- * (bench/RESULTS.md, issue 16). */
-spchol *spchol_analyze_best(const spsym *a);
 void spchol_free(spchol *c);
 /* On the hand-written path (no effect on CHOLMOD's): keep only the
  * single-precision factor between factorizations, allocating the
