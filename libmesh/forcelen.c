@@ -25,10 +25,12 @@ void fl_opts_init(fl_opts *o)
 	o->range = 0.3;
 	o->lmin = 0.01;
 	o->back = 1;
-	o->predict = 3;
+	o->predict = 4;
 	min_opts_init(&o->min);
 	/* Newton-CG on the exact Hessian of the parametrized energy: from a
-	 * cubic prediction one or two Newton steps reach 1e-10, where L-BFGS
+	 * quartic prediction one Newton step mostly reaches 1e-10 (from a
+	 * cubic one, two: the quartic one needs 0.68 of the solves with the
+	 * factor rebuilt after slow points, bench/RESULTS.md), where L-BFGS
 	 * stalls at rounding of the energy near 1e-7 and needs the same
 	 * Newton polish anyway (bench/RESULTS.md). */
 	o->min.algo = MIN_NEWTON;
@@ -96,10 +98,21 @@ struct fl_work {
 	hessian_sparse *hs;
 	spsym *hxs;
 	spchol *ch;
+	/* The assembly of hxs from hs->h, made once per pattern (fl_pattern):
+	 * term k adds h->val[tq[k]] times the weights tw[k] (two of 1, -sin t
+	 * and cos t, coded 3 ki + kj) into hxs->val[tp[k]]. */
+	int *tq, *tp;
+	unsigned char *tw;
+	long nterm;
 	double shift;
 	int have;
 	double *pr, *pg;      /* 2 nv: coordinates and gradient at the build */
 	long npc;             /* builds in this sweep */
+	/* The last solve, input and output (n each): Newton-CG asks for
+	 * M^{-1} g to see whether M exists and then for M^{-1} (-g), which
+	 * is the same up to sign, bit for bit. */
+	double *sin_, *sout;
+	int svalid;
 };
 
 typedef struct {
@@ -140,7 +153,10 @@ fl_work *fl_work_alloc(const mesh *m)
 	w->xrest = malloc(nx * sizeof *w->xrest);
 	w->xtry = malloc(nx * sizeof *w->xtry);
 	w->xgood = malloc(nx * sizeof *w->xgood);
-	if (!w->ws || !w->r || !w->g || !w->x || nohist || !w->xrest || !w->xtry ||
+	w->sin_ = malloc(nx * sizeof *w->sin_);
+	w->sout = malloc(nx * sizeof *w->sout);
+	if (!w->sin_ || !w->sout ||
+	    !w->ws || !w->r || !w->g || !w->x || nohist || !w->xrest || !w->xtry ||
 	    !w->hws || !w->hr || !w->hg || !w->hvr || !w->hhr || !w->hx || !w->pr ||
 	    !w->pg || !w->ex || !w->egx || !w->xgood) {
 		fl_work_free(w);
@@ -170,11 +186,16 @@ void fl_work_free(fl_work *w)
 	free(w->xrest);
 	free(w->xtry);
 	free(w->xgood);
+	free(w->sin_);
+	free(w->sout);
 	free(w->pr);
 	free(w->pg);
 	hessian_sparse_free(w->hs);
 	spsym_free(w->hxs);
 	spchol_free(w->ch);
+	free(w->tq);
+	free(w->tp);
+	free(w->tw);
 	free(w);
 }
 
@@ -292,24 +313,28 @@ static void fl_hessvec(const double *x, const double *v, double *hv, void *data)
 
 /* The variables x of r-coordinate i (vertex v = i/2): itself, or for
  * v = b, r_b = r_a + l e(t) - jimg: x_a's coordinate with weight 1 and s
- * with weight u_d, u = (-sin t, cos t).  Returns how many (1 or 2). */
-static int xmap(const fl_ctx *c, int i, double ct, double st, int X[2], double wt[2])
+ * with weight u_d, u = (-sin t, cos t).  Returns how many (1 or 2); wt
+ * gets the weights' codes, 0 for 1, 1 for -sin t, 2 for cos t. */
+static int xmap(const fl_ctx *c, int i, int X[2], int wt[2])
 {
 	int v = i / 2, d = i % 2;
 	if (v != c->b) {
 		X[0] = xi(c, v) + d;
-		wt[0] = 1;
+		wt[0] = 0;
 		return 1;
 	}
 	X[0] = xi(c, c->a) + d;
-	wt[0] = 1;
+	wt[0] = 0;
 	X[1] = c->w->n - 1;
-	wt[1] = d == 0 ? -st : ct;
+	wt[1] = d == 0 ? 1 : 2;
 	return 2;
 }
 
 /* The pattern of H_x = J^T H J (+ the (s, s) curvature): H's pattern with
- * b's rows and columns folded onto a's and s's. */
+ * b's rows and columns folded onto a's and s's.  H_x(X, Y) = sum over
+ * ordered pairs (i, j) of r-coordinates of H_ij J_iX J_jY, each kept once
+ * in the lower triangle: the terms of that sum, in H's order, with their
+ * places in H_x, are listed here once per junction for fl_pcsetup. */
 static int fl_pattern(fl_ctx *c)
 {
 	fl_work *w = c->w;
@@ -320,9 +345,8 @@ static int fl_pattern(fl_ctx *c)
 		return MESH_ENOMEM;
 	for (int j = 0; j < h->n; j++)
 		for (int q = h->colp[j]; q < h->colp[j + 1]; q++) {
-			int Xi[2], Xj[2];
-			double wi[2], wj[2];
-			int ni = xmap(c, h->rowi[q], 1, 1, Xi, wi), nj = xmap(c, j, 1, 1, Xj, wj);
+			int Xi[2], Xj[2], wi[2], wj[2];
+			int ni = xmap(c, h->rowi[q], Xi, wi), nj = xmap(c, j, Xj, wj);
 			for (int u = 0; u < ni; u++)
 				for (int v = 0; v < nj; v++) {
 					ij[2 * np] = Xi[u];
@@ -339,20 +363,38 @@ static int fl_pattern(fl_ctx *c)
 	free(ij);
 	if (w->hxs == NULL || (w->ch = spchol_analyze(w->hxs)) == NULL)
 		return MESH_ENOMEM;
+	free(w->tq);
+	free(w->tp);
+	free(w->tw);
+	w->tq = malloc((2 * (size_t)cap + 1) * sizeof *w->tq);
+	w->tp = malloc((2 * (size_t)cap + 1) * sizeof *w->tp);
+	w->tw = malloc((2 * (size_t)cap + 1) * sizeof *w->tw);
+	if (w->tq == NULL || w->tp == NULL || w->tw == NULL)
+		return MESH_ENOMEM;
+	long k = 0;
+	for (int j = 0; j < h->n; j++)
+		for (int q = h->colp[j]; q < h->colp[j + 1]; q++) {
+			int i = h->rowi[q], Xi[2], Xj[2], wi[2], wj[2];
+			int ni = xmap(c, i, Xi, wi), nj = xmap(c, j, Xj, wj);
+			for (int u = 0; u < ni; u++)
+				for (int v = 0; v < nj; v++)
+					for (int mirror = 0; mirror <= (i != j); mirror++) {
+						int X = mirror ? Xj[v] : Xi[u], Y = mirror ? Xi[u] : Xj[v];
+						int at = X >= Y ? spsym_find(w->hxs, X, Y) : -1;
+						if (at < 0)  /* the upper triangle */
+							continue;
+						w->tq[k] = q;
+						w->tp[k] = at;
+						w->tw[k] = (unsigned char)(3 * wi[u] + wj[v]);
+						k++;
+					}
+		}
+	w->nterm = k;
 	return MESH_OK;
 }
 
-static void hx_add(spsym *hx, int X, int Y, double v)
-{
-	int at = X >= Y ? spsym_find(hx, X, Y) : -1;
-	if (at >= 0)  /* always, as fl_pattern made the pattern the same way */
-		hx->val[at] += v;
-}
-
-/* Build M = H_x + shift I at x: H_x(X, Y) = sum over ordered pairs (i, j)
- * of r-coordinates of H_ij J_iX J_jY, each kept once in the lower
- * triangle, plus the curvature -grad_b W . e / l on (s, s) as in
- * fl_hessvec. */
+/* Build M = H_x + shift I at x: the terms listed by fl_pattern, plus the
+ * curvature -grad_b W . e / l on (s, s) as in fl_hessvec. */
 static int fl_pcsetup(const double *x, void *data)
 {
 	fl_ctx *c = data;
@@ -360,27 +402,20 @@ static int fl_pcsetup(const double *x, void *data)
 	int n = w->n;
 	double t = x[n - 1] / c->l, ct = cos(t), st = sin(t);
 	w->have = 0;
+	w->svalid = 0;
 	w->npc++;
 	x_to_r(c, x, t, w->pr);
 	mesh_energy(c->m, w->pr, c->p, w->pg, w->ws);
 	mesh_hessian_sparse(c->m, w->pr, c->p, w->hs);
-	const spsym *h = w->hs->h;
+	const double *hv = w->hs->h->val;
 	spsym *hx = w->hxs;
 	spsym_zero(hx);
-	for (int j = 0; j < h->n; j++)
-		for (int q = h->colp[j]; q < h->colp[j + 1]; q++) {
-			int i = h->rowi[q], Xi[2], Xj[2];
-			double wi[2], wj[2], hv = h->val[q];
-			int ni = xmap(c, i, ct, st, Xi, wi), nj = xmap(c, j, ct, st, Xj, wj);
-			for (int u = 0; u < ni; u++)
-				for (int v = 0; v < nj; v++) {
-					hx_add(hx, Xi[u], Xj[v], hv * wi[u] * wj[v]);
-					if (i != j)
-						hx_add(hx, Xj[v], Xi[u], hv * wi[u] * wj[v]);
-				}
-		}
+	const double wt[3] = { 1, -st, ct };
+	for (long k = 0; k < w->nterm; k++)
+		hx->val[w->tp[k]] += hv[w->tq[k]] * wt[w->tw[k] / 3] * wt[w->tw[k] % 3];
 	const double *gb = w->pg + 2 * c->b;
-	hx_add(hx, n - 1, n - 1, -(gb[0] * ct + gb[1] * st) / c->l);
+	int at = spsym_find(hx, n - 1, n - 1);
+	hx->val[at] += -(gb[0] * ct + gb[1] * st) / c->l;
 	if (spchol_precond(w->ch, hx, &w->shift) != MESH_OK)
 		return -1;
 	w->have = 1;
@@ -395,6 +430,20 @@ static int fl_pcapply(const double *r, double *z, void *data)
 	fl_work *w = c->w;
 	if (!w->have)
 		return -1;
+	int n = w->n, sgn = 0;
+	if (w->svalid) {
+		sgn = 1;
+		for (int i = 0; i < n && sgn; i++)
+			sgn = r[i] == -w->sin_[i] && !(r[i] == 0 && signbit(r[i]) == signbit(w->sin_[i]));
+	}
+	if (sgn) {
+		/* rounding is symmetric: the solve and the mean removal of -r
+		 * are those of r negated, exactly */
+		for (int i = 0; i < n; i++)
+			z[i] = -w->sout[i];
+		return 0;
+	}
+	memcpy(w->sin_, r, (size_t)n * sizeof *r);
 	spchol_solve(w->ch, r, z);
 	int nv1 = w->nv - 1;
 	double mx = 0, my = 0;
@@ -408,6 +457,8 @@ static int fl_pcapply(const double *r, double *z, void *data)
 		z[2 * v] -= mx;
 		z[2 * v + 1] -= my;
 	}
+	memcpy(w->sout, z, (size_t)n * sizeof *z);
+	w->svalid = 1;
 	return 0;
 }
 
@@ -484,7 +535,6 @@ static int solve_point(fl_ctx *c, const fl_opts *o, int dir, fl_point *pt)
 	double W = fl_objective(w->x, w->xtry, c);
 	double fres = fl_gnorm(n, w->xtry, NULL);
 	double t = w->x[n - 1] / c->l;
-	w->x[n - 1] = t;
 	int a = c->a, b = c->b;
 	const double *g = w->g;
 	pt->l = c->l;
@@ -495,6 +545,17 @@ static int solve_point(fl_ctx *c, const fl_opts *o, int dir, fl_point *pt)
 	pt->npc = rep.npcsetup;
 	pt->dir = dir;
 	pt->status = fres <= o->min.ftol ? MESH_OK : MESH_ENOCONV;
+	/* A point that converged in one Newton step ends before min_run's
+	 * own rebuild (at its next step) however long CG took, and the
+	 * factor would only age: rebuild it here, at this solution, for the
+	 * next point when CG took more than pcmaxit products (bench/
+	 * RESULTS.md: with the quartic predictor most points take a single
+	 * step). */
+	if (mo.precond && pt->status == MESH_OK && rep.nhessvec > o->min.pcmaxit) {
+		fl_pcsetup(w->x, c);
+		pt->npc++;
+	}
+	w->x[n - 1] = t;
 	return MESH_OK;
 }
 
@@ -603,6 +664,7 @@ int fl_sweep(const mesh *m, const model *p, int j, const fl_opts *o,
 	if (stop && *stop)
 		return MESH_ENOCONV;
 	w->have = 0;
+	w->svalid = 0;
 	w->shift = 0;
 	w->npc = 0;
 	if (o->min.precond) {

@@ -45,7 +45,8 @@ typedef struct {
 	int predict;       /* order of the extrapolation from the last points
 	                      of the leg that starts each minimization: 0 the
 	                      last point itself, 1 linear, 2 quadratic, up to
-	                      FL_MAXPREDICT (3); a warm start either way */
+	                      FL_MAXPREDICT (4, the default); a warm start
+	                      either way */
 	min_opts min;      /* the minimizer of each point; ftol is a force */
 } fl_opts;
 
@@ -54,7 +55,9 @@ typedef struct {
  * min.precond (the default) CG is preconditioned by a shifted sparse
  * Cholesky factorization of the exact Hessian in the sweep's variables,
  * built at the rest state and rebuilt only when CG needs more than
- * min.pcmaxit iterations with it; min.pcsetup and pcapply are ignored. */
+ * min.pcmaxit iterations with it (at the next Newton step, or at the
+ * solution of a point that converged in one); min.pcsetup and pcapply
+ * are ignored. */
 void fl_opts_init(fl_opts *o);
 /* MESH_EDOM with msg if an option is out of range. */
 int fl_opts_check(const fl_opts *o, mesh_error *err);

@@ -181,11 +181,14 @@ struct spchol {
 	int *colsn;            /* n: supernode of each column */
 	long *rp;              /* nsn + 1: offsets into sr */
 	const int *sr;         /* row lists (CHOLMOD's L->s) */
-	long *bp;              /* nsn + 1: offsets into bx and bf */
+	long *bp;              /* nsn + 1: offsets into bx */
 	double *bx;
+	long *fp;              /* nsn + 1: offsets into bf (the solve's layout) */
 	float *bf;
+	void (*solve)(const spchol *c, const double *b, double *x);
+	int (*factor)(spchol *c, const spsym *a, double shift);
 	long *amap;            /* position in bx of each entry of A */
-	float *yf, *acc;       /* n each: solve scratch */
+	float *yf, *acc;       /* n and n + 8: solve scratch */
 	int *head, *next, *pos, *rel;  /* left-looking update lists, row map */
 	int lean;              /* bx only during a factorization (spchol_lean) */
 };
@@ -202,6 +205,7 @@ void spchol_free(spchol *c)
 	free(c->rp);
 	free(c->bp);
 	free(c->bx);
+	free(c->fp);
 	free(c->bf);
 	free(c->amap);
 	free(c->yf);
@@ -220,6 +224,33 @@ void spchol_free(spchol *c)
 	free(c);
 }
 
+/* The solve's layout (below): rows of a padded column of k rows. */
+static inline int pad8(int k)
+{
+	return (k + 7) & ~7;
+}
+
+/* Floats of the two packed triangles of a w x w diagonal block, rounded
+ * to a multiple of 8 so that every column below it starts 32-byte
+ * aligned. */
+static inline long dsize(int w)
+{
+	return pad8(w * (w + 1));
+}
+
+/* Where the diagonal block's column k (by columns: rows k..w-1) and row k
+ * (by rows: columns 0..k) start, offset so that index u is L[u, k] and
+ * L[k, u] respectively. */
+static inline long ccol(int w, int k)
+{
+	return (long)k * w - (long)k * (k - 1) / 2 - k;
+}
+
+static inline long crow(int w, int k)
+{
+	return (long)w * (w + 1) / 2 + (long)k * (k + 1) / 2;
+}
+
 /* The hand-written path's blocks and maps from CHOLMOD's supernodal
  * symbolic factor, whose row lists are sorted with each supernode's own
  * columns first. */
@@ -234,14 +265,16 @@ static int own_setup(spchol *c, const spsym *a)
 	c->sr = L->s;
 	c->rp = malloc(((size_t)nsn + 1) * sizeof *c->rp);
 	c->bp = malloc(((size_t)nsn + 1) * sizeof *c->bp);
+	c->fp = malloc(((size_t)nsn + 1) * sizeof *c->fp);
 	c->colsn = malloc(((size_t)n + 1) * sizeof *c->colsn);
-	if (c->rp == NULL || c->bp == NULL || c->colsn == NULL)
+	if (c->rp == NULL || c->bp == NULL || c->fp == NULL || c->colsn == NULL)
 		return -1;
-	c->rp[0] = c->bp[0] = 0;
+	c->rp[0] = c->bp[0] = c->fp[0] = 0;
 	for (int s = 0; s < nsn; s++) {
 		int f = c->sf[s], w = c->sf[s + 1] - f, m = pi[s + 1] - pi[s];
 		c->rp[s + 1] = pi[s + 1];
 		c->bp[s + 1] = c->bp[s] + (long)m * w;
+		c->fp[s + 1] = c->fp[s] + dsize(w) + (long)pad8(m - w) * w;
 		for (int j = f; j < f + w; j++)
 			c->colsn[j] = s;
 		for (int u = 0; u < m; u++)
@@ -250,10 +283,14 @@ static int own_setup(spchol *c, const spsym *a)
 				return -1;  /* not the layout this code needs */
 	}
 	c->bx = calloc((size_t)c->bp[nsn] + 1, sizeof *c->bx);
-	c->bf = calloc((size_t)c->bp[nsn] + 1, sizeof *c->bf);
+	/* 32-byte aligned (aligned_alloc wants a multiple of the alignment,
+	 * which fp[nsn] + 8 is), zero-filled for the padding rows */
+	c->bf = aligned_alloc(32, ((size_t)c->fp[nsn] + 8) * sizeof *c->bf);
+	if (c->bf)
+		memset(c->bf, 0, ((size_t)c->fp[nsn] + 8) * sizeof *c->bf);
 	c->amap = malloc(((size_t)a->nnz + 1) * sizeof *c->amap);
 	c->yf = malloc(((size_t)n + 1) * sizeof *c->yf);
-	c->acc = malloc(((size_t)n + 1) * sizeof *c->acc);
+	c->acc = malloc(((size_t)n + 8) * sizeof *c->acc);
 	c->head = malloc(((size_t)n + 1) * sizeof *c->head);
 	c->next = malloc(((size_t)n + 1) * sizeof *c->next);
 	c->pos = malloc(((size_t)n + 1) * sizeof *c->pos);
@@ -334,6 +371,7 @@ spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind)
 			goto fail;
 	} else if (own_setup(c, a) != 0)
 		goto fail;
+	spchol_simd(c, 1);
 	return c;
 fail:
 	spchol_free(c);
@@ -348,7 +386,8 @@ spchol *spchol_analyze(const spsym *a)
 double spchol_bytes(const spchol *c)
 {
 	/* the supernodal blocks whole, explicit zeros too */
-	return c->big ? 8 * (double)c->L->xsize : (c->lean ? 4 : 12) * (double)c->bp[c->nsn];
+	return c->big ? 8 * (double)c->L->xsize
+	              : 4 * (double)c->fp[c->nsn] + (c->lean ? 0 : 8 * (double)c->bp[c->nsn]);
 }
 
 long spchol_nnz(const spchol *c)
@@ -356,33 +395,86 @@ long spchol_nnz(const spchol *c)
 	return (long)c->cm.lnz;
 }
 
-/* Four partial sums: a single one is a chain of dependent additions. */
-static inline double dotd(const double *a, const double *b, int n)
+/* The numeric factorization, like the solve below, is written once on
+ * 4-lane double vectors and built portable and AVX2 (factor_portable,
+ * factor_avx2): the same operations in the same order, the same bits.
+ * The vector types and helpers are declared here for both. */
+typedef double v4df __attribute__((vector_size(32)));
+
+/* Every function taking or returning a vector is inlined, so the
+ * compiler's warning that such an interface would differ without AVX
+ * does not apply. */
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wunknown-warning-option"
+#endif
+#if defined(__GNUC__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+#define KERNEL_INLINE static inline __attribute__((always_inline))
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define SPCHOL_HAVE_AVX2 1
+#define AVX2_TARGET __attribute__((target("avx2")))
+#endif
+
+KERNEL_INLINE v4df ld4d(const double *p)
 {
-	double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+	v4df v;
+	memcpy(&v, p, sizeof v);
+	return v;
+}
+
+/* Four partial sums, lane k taking the terms t = k mod 4 (a single sum is
+ * a chain of dependent additions), the tail into lane 0. */
+KERNEL_INLINE double dotd(const double *a, const double *b, int n)
+{
+	v4df s = { 0, 0, 0, 0 };
+	int t = 0;
+	for (; t + 3 < n; t += 4)
+		s += ld4d(a + t) * ld4d(b + t);
+	for (; t < n; t++)
+		s[0] += a[t] * b[t];
+	return (s[0] + s[1]) + (s[2] + s[3]);
+}
+
+/* dotd of rows a0..a3 with b at once, b loaded once for four. */
+KERNEL_INLINE void dot4d(const double *a0, const double *a1, const double *a2,
+                         const double *a3, const double *b, int n, double out[4])
+{
+	v4df s0 = { 0, 0, 0, 0 }, s1 = s0, s2 = s0, s3 = s0;
 	int t = 0;
 	for (; t + 3 < n; t += 4) {
-		s0 += a[t] * b[t];
-		s1 += a[t + 1] * b[t + 1];
-		s2 += a[t + 2] * b[t + 2];
-		s3 += a[t + 3] * b[t + 3];
+		v4df bv = ld4d(b + t);
+		s0 += ld4d(a0 + t) * bv;
+		s1 += ld4d(a1 + t) * bv;
+		s2 += ld4d(a2 + t) * bv;
+		s3 += ld4d(a3 + t) * bv;
 	}
-	for (; t < n; t++)
-		s0 += a[t] * b[t];
-	return (s0 + s1) + (s2 + s3);
+	for (; t < n; t++) {
+		s0[0] += a0[t] * b[t];
+		s1[0] += a1[t] * b[t];
+		s2[0] += a2[t] * b[t];
+		s3[0] += a3[t] * b[t];
+	}
+	out[0] = (s0[0] + s0[1]) + (s0[2] + s0[3]);
+	out[1] = (s1[0] + s1[1]) + (s1[2] + s1[3]);
+	out[2] = (s2[0] + s2[1]) + (s2[2] + s2[3]);
+	out[3] = (s3[0] + s3[1]) + (s3[2] + s3[3]);
 }
+
+static void to_solve_layout(spchol *c);
 
 /* Supernodal left-looking: supernode J gathers the updates of every
  * earlier supernode K with rows in J's columns; those wait in a linked
  * list headed at the supernode of their next row (George and Liu), so no
  * row structure is stored.  An update is dense: dot products of K's rows,
- * scattered into J's block through the row map rel. */
-static int factor_own(spchol *c, const spsym *a, double shift)
+ * scattered into J's block through the row map rel; the rows below J's
+ * columns (most of them) go in fours against each row of J's. */
+KERNEL_INLINE int factor_body(spchol *c, const spsym *a, double shift)
 {
 	const int nsn = c->nsn;
 	int *head = c->head, *next = c->next, *pos = c->pos, *rel = c->rel;
-	if (c->bx == NULL && (c->bx = calloc((size_t)c->bp[nsn] + 1, sizeof *c->bx)) == NULL)
-		return MESH_ENOMEM;
 	double *bx = c->bx;
 	memset(bx, 0, (size_t)c->bp[nsn] * sizeof *bx);
 	for (int p = 0; p < a->nnz; p++)
@@ -413,11 +505,32 @@ static int factor_own(spchol *c, const spsym *a, double shift)
 			int q = p;
 			while (q < mk && RK[q] < f + w)
 				q++;
-			for (int i = p; i < mk; i++) {
+			for (int i = p; i < q; i++) {
 				const double *Li = LK + (long)i * wk;
 				double *Fi = F + (long)rel[RK[i]] * w - f;
-				int jmax = i < q ? i : q - 1;
-				for (int j = p; j <= jmax; j++)
+				for (int j = p; j <= i; j++)
+					Fi[RK[j]] -= dotd(Li, LK + (long)j * wk, wk);
+			}
+			int i = q;
+			for (; i + 3 < mk; i += 4) {
+				const double *L0 = LK + (long)i * wk;
+				double *F0 = F + (long)rel[RK[i]] * w - f;
+				double *F1 = F + (long)rel[RK[i + 1]] * w - f;
+				double *F2 = F + (long)rel[RK[i + 2]] * w - f;
+				double *F3 = F + (long)rel[RK[i + 3]] * w - f;
+				for (int j = p; j < q; j++) {
+					double d[4];
+					dot4d(L0, L0 + wk, L0 + 2 * wk, L0 + 3 * wk, LK + (long)j * wk, wk, d);
+					F0[RK[j]] -= d[0];
+					F1[RK[j]] -= d[1];
+					F2[RK[j]] -= d[2];
+					F3[RK[j]] -= d[3];
+				}
+			}
+			for (; i < mk; i++) {
+				const double *Li = LK + (long)i * wk;
+				double *Fi = F + (long)rel[RK[i]] * w - f;
+				for (int j = p; j < q; j++)
 					Fi[RK[j]] -= dotd(Li, LK + (long)j * wk, wk);
 			}
 			if (q < mk) {
@@ -435,7 +548,17 @@ static int factor_own(spchol *c, const spsym *a, double shift)
 				return MESH_EDOM;
 			d = sqrt(d);
 			Ft[t] = d;
-			for (int u = t + 1; u < m; u++) {
+			int u = t + 1;
+			for (; u + 3 < m; u += 4) {
+				double *Fu = F + (long)u * w;
+				double dd[4];
+				dot4d(Fu, Fu + w, Fu + 2 * w, Fu + 3 * w, Ft, t, dd);
+				Fu[t] = (Fu[t] - dd[0]) / d;
+				Fu[w + t] = (Fu[w + t] - dd[1]) / d;
+				Fu[2 * w + t] = (Fu[2 * w + t] - dd[2]) / d;
+				Fu[3 * w + t] = (Fu[3 * w + t] - dd[3]) / d;
+			}
+			for (; u < m; u++) {
 				double *Fu = F + (long)u * w;
 				Fu[t] = (Fu[t] - dotd(Fu, Ft, t)) / d;
 			}
@@ -447,15 +570,50 @@ static int factor_own(spchol *c, const spsym *a, double shift)
 			head[S2] = J;
 		}
 	}
-	for (int S = 0; S < nsn; S++) {
-		int w = c->sf[S + 1] - c->sf[S];
-		long b0 = c->bp[S], b1 = c->bp[S + 1];
-		for (long p = b0; p < b1; p++)
-			c->bf[p] = (float)bx[p];
-		for (int t = 0; t < w; t++)
-			c->bf[b0 + (long)t * w + t] = (float)(1 / bx[b0 + (long)t * w + t]);
-	}
 	return MESH_OK;
+}
+
+static int factor_portable(spchol *c, const spsym *a, double shift)
+{
+	return factor_body(c, a, shift);
+}
+
+#ifdef SPCHOL_HAVE_AVX2
+AVX2_TARGET static int factor_avx2(spchol *c, const spsym *a, double shift)
+{
+	return factor_body(c, a, shift);
+}
+#endif
+
+static int factor_own(spchol *c, const spsym *a, double shift)
+{
+	if (c->bx == NULL && (c->bx = calloc((size_t)c->bp[c->nsn] + 1, sizeof *c->bx)) == NULL)
+		return MESH_ENOMEM;
+	int st = c->factor(c, a, shift);
+	if (st == MESH_OK)
+		to_solve_layout(c);
+	return st;
+}
+
+/* The double-precision factor to the solve's layout (below): by columns,
+ * the diagonal inverted, single precision. */
+static void to_solve_layout(spchol *c)
+{
+	const double *bx = c->bx;
+	for (int S = 0; S < c->nsn; S++) {
+		int w = c->sf[S + 1] - c->sf[S], m = (int)(c->rp[S + 1] - c->rp[S]);
+		int mp = pad8(m - w);
+		const double *B = bx + c->bp[S];
+		float *D = c->bf + c->fp[S], *O = D + dsize(w);
+		for (int t = 0; t < w; t++) {
+			for (int u = t; u < w; u++) {
+				double v = u == t ? 1 / B[(size_t)t * w + t] : B[(size_t)u * w + t];
+				D[ccol(w, t) + u] = D[crow(w, u) + t] = (float)v;
+			}
+			for (int u = w; u < m; u++)
+				O[(size_t)t * mp + u - w] = (float)B[(size_t)u * w + t];
+		}
+	}
 }
 
 /* The smallest squared diagonal entry of CHOLMOD's supernodal L: the
@@ -561,179 +719,226 @@ int spchol_precond(spchol *c, const spsym *a, double *shift)
 	return spsym_precond_ladder(factor_fn, c, a, shift);
 }
 
-/* The solve runs in single precision on four lanes (GCC/Clang vector
- * extension; plain SSE, no -ffast-math needed since the sums are split by
- * hand): a preconditioner needs ~1e-7 relative accuracy at most. */
-typedef float v4sf __attribute__((vector_size(16)));
+/* The solve runs in single precision (a preconditioner needs ~1e-7
+ * relative accuracy at most) on the float copy of L in its own layout,
+ * per supernode (fp[s] its offset, a multiple of 8 floats): the lower
+ * triangle of the w x w diagonal block twice, packed, by columns for the
+ * forward solve and by rows for the backward one, its diagonal inverted
+ * (both passes then update along contiguous memory, four columns or rows
+ * at a time, and neither waits on a horizontal sum per row), then the
+ * m - w rows below it by columns, each column padded with zeros to a
+ * multiple of 8 (a row is only ~14 wide, a column ~50 long, and whole
+ * 8-lane vectors need no scalar tail).  The kernel is written once on
+ * 8-lane vectors (GCC/Clang vector extension) and compiled twice:
+ * portable (two SSE operations per vector) and with AVX2 for the CPUs
+ * that have it (one operation), chosen at run time (spchol_simd).  No
+ * fused multiply-add, no reassociation: both give the same bits on the
+ * same input (tests/precond.c). */
+typedef float v8sf __attribute__((vector_size(32)));
 
-static inline v4sf ld4(const float *p)
+#define SOLVE_INLINE KERNEL_INLINE
+
+SOLVE_INLINE v8sf ld8(const float *p)
 {
-	v4sf v;
+	v8sf v;
 	memcpy(&v, p, sizeof v);
 	return v;
 }
 
-static inline void st4(float *p, v4sf v)
+/* A macro, not a function: GCC notes an ABI change for any vector
+ * passed by value, inlined or not. */
+#define st8(p, v) do { v8sf st8_ = (v); memcpy((p), &st8_, sizeof st8_); } while (0)
+
+SOLVE_INLINE v8sf splat8(float x)
 {
-	memcpy(p, &v, sizeof v);
+	return (v8sf){ x, x, x, x, x, x, x, x };
 }
 
-static inline float dotf(const float *a, const float *b, int n)
+SOLVE_INLINE float hsum8(const v8sf *v)
 {
-	v4sf s = { 0, 0, 0, 0 };
+	const v8sf s = *v;
+	return ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
+}
+
+/* y[0..n) -= c0 v0 + c1 v1 + c2 v2 + c3 v3: y loaded and stored once for
+ * four columns. */
+SOLVE_INLINE void axpy4(float *y, const float *c0, const float *c1, const float *c2,
+                        const float *c3, const float v[4], int n)
+{
+	v8sf v0 = splat8(v[0]), v1 = splat8(v[1]), v2 = splat8(v[2]), v3 = splat8(v[3]);
 	int t = 0;
-	for (; t + 3 < n; t += 4)
-		s += ld4(a + t) * ld4(b + t);
-	float r = (s[0] + s[1]) + (s[2] + s[3]);
+	for (; t + 7 < n; t += 8)
+		st8(y + t, ld8(y + t) - ((ld8(c0 + t) * v0 + ld8(c1 + t) * v1) +
+		                         (ld8(c2 + t) * v2 + ld8(c3 + t) * v3)));
 	for (; t < n; t++)
-		r += a[t] * b[t];
-	return r;
+		y[t] -= (c0[t] * v[0] + c1[t] * v[1]) + (c2[t] * v[2] + c3[t] * v[3]);
 }
 
-/* y[0..n) -= a[0..n) * v */
-static inline void axpyf(float *y, const float *a, float v, int n)
+SOLVE_INLINE void axpy1(float *y, const float *c, float v, int n)
 {
-	v4sf vv = { v, v, v, v };
+	v8sf vv = splat8(v);
 	int t = 0;
-	for (; t + 3 < n; t += 4)
-		st4(y + t, ld4(y + t) - ld4(a + t) * vv);
+	for (; t + 7 < n; t += 8)
+		st8(y + t, ld8(y + t) - ld8(c + t) * vv);
 	for (; t < n; t++)
-		y[t] -= a[t] * v;
+		y[t] -= c[t] * v;
 }
 
-/* Four dot products of rows a0..a3 with x[0..n): four independent sums,
- * each row loaded once and x once for all four. */
-static inline void dot4f(const float *a0, const float *a1, const float *a2,
-                         const float *a3, const float *x, int n, float out[4])
+/* Four dot products of columns c0..c3 with x[0..n), n a multiple of 8:
+ * four independent sums, x loaded once for four. */
+SOLVE_INLINE void dot4(const float *c0, const float *c1, const float *c2, const float *c3,
+                       const float *x, int n, float out[4])
 {
-	v4sf s0 = { 0, 0, 0, 0 }, s1 = s0, s2 = s0, s3 = s0;
-	int t = 0;
-	for (; t + 3 < n; t += 4) {
-		v4sf xv = ld4(x + t);
-		s0 += ld4(a0 + t) * xv;
-		s1 += ld4(a1 + t) * xv;
-		s2 += ld4(a2 + t) * xv;
-		s3 += ld4(a3 + t) * xv;
+	v8sf s0 = splat8(0), s1 = s0, s2 = s0, s3 = s0;
+	for (int t = 0; t < n; t += 8) {
+		v8sf xv = ld8(x + t);
+		s0 += ld8(c0 + t) * xv;
+		s1 += ld8(c1 + t) * xv;
+		s2 += ld8(c2 + t) * xv;
+		s3 += ld8(c3 + t) * xv;
 	}
-	float r0 = (s0[0] + s0[1]) + (s0[2] + s0[3]);
-	float r1 = (s1[0] + s1[1]) + (s1[2] + s1[3]);
-	float r2 = (s2[0] + s2[1]) + (s2[2] + s2[3]);
-	float r3 = (s3[0] + s3[1]) + (s3[2] + s3[3]);
-	for (; t < n; t++) {
-		r0 += a0[t] * x[t];
-		r1 += a1[t] * x[t];
-		r2 += a2[t] * x[t];
-		r3 += a3[t] * x[t];
-	}
-	out[0] = r0;
-	out[1] = r1;
-	out[2] = r2;
-	out[3] = r3;
+	out[0] = hsum8(&s0);
+	out[1] = hsum8(&s1);
+	out[2] = hsum8(&s2);
+	out[3] = hsum8(&s3);
 }
 
-/* y[0..n) -= a0 v0 + a1 v1 + a2 v2 + a3 v3: y loaded and stored once for
- * four rows. */
-static inline void axpy4f(float *y, const float *a0, const float *a1,
-                          const float *a2, const float *a3, const float v[4], int n)
+SOLVE_INLINE float dot1(const float *c, const float *x, int n)
 {
-	v4sf v0 = { v[0], v[0], v[0], v[0] }, v1 = { v[1], v[1], v[1], v[1] };
-	v4sf v2 = { v[2], v[2], v[2], v[2] }, v3 = { v[3], v[3], v[3], v[3] };
-	int t = 0;
-	for (; t + 3 < n; t += 4)
-		st4(y + t, ld4(y + t) - ((ld4(a0 + t) * v0 + ld4(a1 + t) * v1) +
-		                         (ld4(a2 + t) * v2 + ld4(a3 + t) * v3)));
-	for (; t < n; t++)
-		y[t] -= (a0[t] * v[0] + a1[t] * v[1]) + (a2[t] * v[2] + a3[t] * v[3]);
+	v8sf s = splat8(0);
+	for (int t = 0; t < n; t += 8)
+		s += ld8(c + t) * ld8(x + t);
+	return hsum8(&s);
 }
 
-/* The solve is bound by the latency of its sums, not by bandwidth (L fits
- * in the cache: 0.4 MB in single precision for 324 cells), so rows go in
- * fours: forward, four rows' dot products with the supernode's solved
- * part at once; backward, four rows' updates of the accumulator at once
- * (bench/RESULTS.md, "tis-forcelen --all"). */
-static void solve_own(spchol *c, const double *b, double *x)
+SOLVE_INLINE void solve_body(const spchol *c, const double *b, double *x)
 {
 	const int n = c->n;
-	float *y = c->yf;
+	float *y = c->yf, *tmp = c->acc;
 	for (int k = 0; k < n; k++)
 		y[k] = (float)b[c->perm[k]];
 	for (int s = 0; s < c->nsn; s++) {
 		int f = c->sf[s], w = c->sf[s + 1] - f;
-		int m = (int)(c->rp[s + 1] - c->rp[s]);
-		const int *R = c->sr + c->rp[s];
-		const float *B = c->bf + c->bp[s];
+		int mo = (int)(c->rp[s + 1] - c->rp[s]) - w, mp = pad8(mo);
+		const int *R = c->sr + c->rp[s] + w;
+		const float *D = c->bf + c->fp[s], *O = D + dsize(w);
 		float *yf = y + f;
-		int u = 0;
-		for (; u + 3 < w; u += 4) {
-			/* rows u..u+3 against the solved yf[0..u), then the
-			 * 4 x 4 diagonal block */
-			const float *r0 = B + (size_t)u * w, *r1 = r0 + w, *r2 = r1 + w, *r3 = r2 + w;
-			float d[4];
-			dot4f(r0, r1, r2, r3, yf, u, d);
-			yf[u] = (yf[u] - d[0]) * r0[u];
-			yf[u + 1] = (yf[u + 1] - d[1] - r1[u] * yf[u]) * r1[u + 1];
-			yf[u + 2] = (yf[u + 2] - d[2] - r2[u] * yf[u] - r2[u + 1] * yf[u + 1]) * r2[u + 2];
-			yf[u + 3] = (yf[u + 3] - d[3] - r3[u] * yf[u] - r3[u + 1] * yf[u + 1] -
-			             r3[u + 2] * yf[u + 2]) * r3[u + 3];
+		int t = 0;
+		for (; t + 3 < w; t += 4) {
+			/* the 4 x 4 triangle of columns t..t+3, then their
+			 * updates of the rows below it at once; column k
+			 * (rows k..w-1) is at D + ccol(w, k), cK[u] = L[u, k] */
+			const float *c0 = D + ccol(w, t), *c1 = D + ccol(w, t + 1);
+			const float *c2 = D + ccol(w, t + 2), *c3 = D + ccol(w, t + 3);
+			float v[4];
+			v[0] = yf[t] * c0[t];
+			v[1] = (yf[t + 1] - c0[t + 1] * v[0]) * c1[t + 1];
+			v[2] = (yf[t + 2] - c0[t + 2] * v[0] - c1[t + 2] * v[1]) * c2[t + 2];
+			v[3] = (yf[t + 3] - c0[t + 3] * v[0] - c1[t + 3] * v[1] -
+			        c2[t + 3] * v[2]) * c3[t + 3];
+			memcpy(yf + t, v, sizeof v);
+			axpy4(yf + t + 4, c0 + t + 4, c1 + t + 4, c2 + t + 4, c3 + t + 4, v, w - t - 4);
 		}
-		for (; u < w; u++) {
-			const float *row = B + (size_t)u * w;
-			yf[u] = (yf[u] - dotf(row, yf, u)) * row[u];
+		for (; t < w; t++) {
+			const float *ct = D + ccol(w, t);
+			yf[t] *= ct[t];
+			axpy1(yf + t + 1, ct + t + 1, yf[t], w - t - 1);
 		}
-		for (u = w; u + 3 < m; u += 4) {
-			const float *r0 = B + (size_t)u * w;
-			float d[4];
-			dot4f(r0, r0 + w, r0 + 2 * w, r0 + 3 * w, yf, w, d);
-			y[R[u]] -= d[0];
-			y[R[u + 1]] -= d[1];
-			y[R[u + 2]] -= d[2];
-			y[R[u + 3]] -= d[3];
+		if (mo == 0)
+			continue;
+		memset(tmp, 0, (size_t)mp * sizeof *tmp);
+		for (t = 0; t + 3 < w; t += 4) {
+			const float *c0 = O + (size_t)t * mp;
+			axpy4(tmp, c0, c0 + mp, c0 + 2 * mp, c0 + 3 * mp, yf + t, mp);
 		}
-		for (; u < m; u++)
-			y[R[u]] -= dotf(B + (size_t)u * w, yf, w);
+		for (; t < w; t++)
+			axpy1(tmp, O + (size_t)t * mp, yf[t], mp);
+		/* tmp holds -(O yf) */
+		for (int u = 0; u < mo; u++)
+			y[R[u]] += tmp[u];
 	}
-	float *acc = c->acc;
 	for (int s = c->nsn - 1; s >= 0; s--) {
 		int f = c->sf[s], w = c->sf[s + 1] - f;
-		int m = (int)(c->rp[s + 1] - c->rp[s]);
-		const int *R = c->sr + c->rp[s];
-		const float *B = c->bf + c->bp[s];
+		int mo = (int)(c->rp[s + 1] - c->rp[s]) - w, mp = pad8(mo);
+		const int *R = c->sr + c->rp[s] + w;
+		const float *D = c->bf + c->fp[s], *O = D + dsize(w);
 		float *yf = y + f;
-		memcpy(acc, yf, (size_t)w * sizeof *acc);
-		int u = w;
-		for (; u + 3 < m; u += 4) {
-			const float *r0 = B + (size_t)u * w;
-			float v[4] = { y[R[u]], y[R[u + 1]], y[R[u + 2]], y[R[u + 3]] };
-			axpy4f(acc, r0, r0 + w, r0 + 2 * w, r0 + 3 * w, v, w);
+		if (mo > 0) {
+			for (int u = 0; u < mo; u++)
+				tmp[u] = y[R[u]];
+			for (int u = mo; u < mp; u++)
+				tmp[u] = 0;
+			int t = 0;
+			for (; t + 3 < w; t += 4) {
+				const float *c0 = O + (size_t)t * mp;
+				float d[4];
+				dot4(c0, c0 + mp, c0 + 2 * mp, c0 + 3 * mp, tmp, mp, d);
+				yf[t] -= d[0];
+				yf[t + 1] -= d[1];
+				yf[t + 2] -= d[2];
+				yf[t + 3] -= d[3];
+			}
+			for (; t < w; t++)
+				yf[t] -= dot1(O + (size_t)t * mp, tmp, mp);
 		}
-		for (; u < m; u++)
-			axpyf(acc, B + (size_t)u * w, y[R[u]], w);
+		/* rows t, t-1, t-2, t-3: their 4 x 4 triangle, then their
+		 * updates of the rows above at once; row k (columns 0..k) is
+		 * at D + crow(w, k), rK[u] = L[k, u] */
 		int t = w - 1;
 		for (; t >= 3; t -= 4) {
-			/* rows t, t-1, t-2, t-3: their 4 x 4 diagonal block
-			 * in turn, then their updates of acc[0..t-3) at once */
-			const float *r0 = B + (size_t)t * w, *r1 = r0 - w, *r2 = r1 - w, *r3 = r2 - w;
+			const float *r0 = D + crow(w, t), *r1 = D + crow(w, t - 1);
+			const float *r2 = D + crow(w, t - 2), *r3 = D + crow(w, t - 3);
 			float v[4];
-			v[0] = acc[t] * r0[t];
-			v[1] = (acc[t - 1] - r0[t - 1] * v[0]) * r1[t - 1];
-			v[2] = (acc[t - 2] - r0[t - 2] * v[0] - r1[t - 2] * v[1]) * r2[t - 2];
-			v[3] = (acc[t - 3] - r0[t - 3] * v[0] - r1[t - 3] * v[1] - r2[t - 3] * v[2]) *
-			       r3[t - 3];
+			v[0] = yf[t] * r0[t];
+			v[1] = (yf[t - 1] - r0[t - 1] * v[0]) * r1[t - 1];
+			v[2] = (yf[t - 2] - r0[t - 2] * v[0] - r1[t - 2] * v[1]) * r2[t - 2];
+			v[3] = (yf[t - 3] - r0[t - 3] * v[0] - r1[t - 3] * v[1] -
+			        r2[t - 3] * v[2]) * r3[t - 3];
 			yf[t] = v[0];
 			yf[t - 1] = v[1];
 			yf[t - 2] = v[2];
 			yf[t - 3] = v[3];
-			axpy4f(acc, r0, r1, r2, r3, v, t - 3);
+			axpy4(yf, r0, r1, r2, r3, v, t - 3);
 		}
 		for (; t >= 0; t--) {
-			const float *row = B + (size_t)t * w;
-			float v = acc[t] * row[t];
-			yf[t] = v;
-			axpyf(acc, row, v, t);
+			const float *rt = D + crow(w, t);
+			yf[t] *= rt[t];
+			axpy1(yf, rt, yf[t], t);
 		}
 	}
 	for (int k = 0; k < n; k++)
 		x[c->perm[k]] = y[k];
+}
+
+static void solve_portable(const spchol *c, const double *b, double *x)
+{
+	solve_body(c, b, x);
+}
+
+#ifdef SPCHOL_HAVE_AVX2
+AVX2_TARGET static void solve_avx2(const spchol *c, const double *b, double *x)
+{
+	solve_body(c, b, x);
+}
+#endif
+
+int spchol_simd(spchol *c, int level)
+{
+	if (c->big)
+		return 0;
+	c->solve = solve_portable;
+	c->factor = factor_portable;
+#ifdef SPCHOL_HAVE_AVX2
+	__builtin_cpu_init();
+	if (level >= 1 && __builtin_cpu_supports("avx2")) {
+		c->solve = solve_avx2;
+		c->factor = factor_avx2;
+		return 1;
+	}
+#else
+	(void)level;
+#endif
+	return 0;
 }
 
 int spchol_solve_status(spchol *c, const double *b, double *x)
@@ -741,7 +946,7 @@ int spchol_solve_status(spchol *c, const double *b, double *x)
 	if (!c->ok)
 		return MESH_EDOM;
 	if (!c->big) {
-		solve_own(c, b, x);
+		c->solve(c, b, x);
 		return MESH_OK;
 	}
 	memcpy(c->B->x, b, (size_t)c->n * sizeof *b);

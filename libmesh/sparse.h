@@ -60,7 +60,7 @@ void spchol_free(spchol *c);
  * factored one after another. */
 void spchol_lean(spchol *c);
 /* Bytes the numeric factorization holds (8 per entry of L on CHOLMOD's
- * path, 12 on the hand-written one, 4 once lean), known from the
+ * path, about 12 on the hand-written one, 4 once lean), known from the
  * analysis alone. */
 double spchol_bytes(const spchol *c);
 /* Nonzeros of L as CHOLMOD's analysis counts them (a measure of its cost:
@@ -107,5 +107,12 @@ int spchol_precond(spchol *c, const spsym *a, double *shift);
 int spchol_solve_status(spchol *c, const double *b, double *x);
 /* The same where failure cannot be reported: x all NaN then. */
 void spchol_solve(spchol *c, const double *b, double *x);
+
+/* The hand-written path's solve kernel: level 0 portable (SSE, x86-64-v2
+ * or any other target), 1 the AVX2 build of the same kernel where the
+ * CPU has AVX2 (what spchol_analyze picks).  Both do the same operations
+ * in the same order, so they give the same bits.  Returns the level in
+ * use (0 where 1 is not available). */
+int spchol_simd(spchol *c, int level);
 
 #endif

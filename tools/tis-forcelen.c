@@ -37,7 +37,7 @@ static const char help[] =
 	"  --range R        largest |l - l0| (0.3)\n"
 	"  --lmin L         smallest length (0.01)\n"
 	"  --no-back        no return legs (no hysteresis check)\n"
-	"  --predict N      extrapolation order of the warm starts, 0..4 (3)\n"
+	"  --predict N      extrapolation order of the warm starts, 0..4 (4)\n"
 	"Minimizer:\n"
 	"  --tol F          residual force tolerance (1e-10)\n"
 	"  --algo NAME      newton, lbfgs, fire, bfgs2, tnewton, var2 (newton)\n"
