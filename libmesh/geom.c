@@ -322,13 +322,7 @@ double mesh_energy_tension(const mesh *m, const double *r, const model *p,
 
 double grad_max_norm(int nv, const double *g)
 {
-	double m2 = 0;
-	for (int v = 0; v < nv; v++) {
-		double q = g[2 * v] * g[2 * v] + g[2 * v + 1] * g[2 * v + 1];
-		if (q > m2)
-			m2 = q;
-	}
-	return sqrt(m2);
+	return sqrt(gmax2(nv, (const v2d *)g));
 }
 
 int mesh_stats_compute(const mesh *m, const model *p, mesh_stats *s)
