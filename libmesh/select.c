@@ -124,3 +124,21 @@ int junction_select_file(const mesh *m, const char *path, int **sel, int *n, mes
 	}
 	return st;
 }
+
+int junction_select(const mesh *m, const jsel *js, int **sel, int *n, mesh_error *err)
+{
+	switch (js->kind) {
+	case JSEL_PAIR: return junction_select_pair(m, js->a, js->b, sel, n, err);
+	case JSEL_INDEX: return junction_select_index(m, js->index, sel, n, err);
+	case JSEL_RANDOM: return junction_select_random(m, js->count, js->seed, sel, n, err);
+	case JSEL_LIST: return junction_select_file(m, js->path, sel, n, err);
+	case JSEL_ALL:
+		if ((*sel = malloc(((size_t)m->nj + 1) * sizeof **sel)) == NULL)
+			return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		for (int j = 0; j < m->nj; j++)
+			(*sel)[j] = j;
+		*n = m->nj;
+		return MESH_OK;
+	default: return mesh_error_set(err, 0, MESH_EINVAL, "no junction selection");
+	}
+}

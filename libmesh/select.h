@@ -20,4 +20,19 @@ int junction_select_random(const mesh *m, long k, unsigned long seed, int **sel,
                            mesh_error *err);
 int junction_select_file(const mesh *m, const char *path, int **sel, int *n, mesh_error *err);
 
+/* A program's junction option, whichever it was: one of the above, or
+ * every junction in order (JSEL_ALL).  junction_select() dispatches on
+ * kind (the fields it does not use are ignored); JSEL_NONE is
+ * MESH_EINVAL. */
+typedef enum { JSEL_NONE, JSEL_PAIR, JSEL_INDEX, JSEL_RANDOM, JSEL_LIST, JSEL_ALL } jsel_kind;
+typedef struct {
+	jsel_kind kind;
+	long a, b;             /* JSEL_PAIR */
+	long index;            /* JSEL_INDEX */
+	long count;            /* JSEL_RANDOM, with seed */
+	unsigned long seed;
+	const char *path;      /* JSEL_LIST */
+} jsel;
+int junction_select(const mesh *m, const jsel *js, int **sel, int *n, mesh_error *err);
+
 #endif

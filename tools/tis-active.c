@@ -66,9 +66,7 @@ static const char help[] =
 	"  --version          print the version\n";
 
 struct opts {
-	enum { SEL_NONE, SEL_PAIR, SEL_INDEX, SEL_RANDOM, SEL_LIST, SEL_NET } sel;
-	long va, vb, index, nrandom;
-	const char *list;
+	jsel js;   /* --network: JSEL_ALL, every junction active at once */
 	act_opts a;
 	int has_p0, has_ka, has_perturb, has_t1, has_scheme;
 	double p0, ka, time, perturb, every, trace_every;
@@ -77,11 +75,11 @@ struct opts {
 	int *watch, nwatch;
 };
 
-static void set_sel(struct opts *o, int sel)
+static void set_sel(struct opts *o, jsel_kind kind)
 {
-	if (o->sel != SEL_NONE)
+	if (o->js.kind != JSEL_NONE)
 		cli_usage_error("choose one of --junction, --index, --random, --list, --network");
-	o->sel = sel;
+	o->js.kind = kind;
 }
 
 static struct opts parse(int argc, char **argv)
@@ -128,16 +126,13 @@ static struct opts parse(int argc, char **argv)
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
 		switch (c) {
 		case O_JUNCTION:
-			set_sel(&o, SEL_PAIR);
-			o.va = cli_long("--junction", optarg, 0, 2000000000);
-			if (optind >= argc)
-				cli_usage_error("option '--junction' needs two vertex ids");
-			o.vb = cli_long("--junction", argv[optind++], 0, 2000000000);
+			set_sel(&o, JSEL_PAIR);
+			cli_vertex_pair("--junction", argc, argv, &o.js.a, &o.js.b);
 			break;
-		case O_INDEX: set_sel(&o, SEL_INDEX); o.index = cli_long("--index", optarg, 0, 2000000000); break;
-		case O_RANDOM: set_sel(&o, SEL_RANDOM); o.nrandom = cli_long("--random", optarg, 1, 2000000000); break;
-		case O_LIST: set_sel(&o, SEL_LIST); o.list = optarg; break;
-		case O_NET: set_sel(&o, SEL_NET); break;
+		case O_INDEX: set_sel(&o, JSEL_INDEX); o.js.index = cli_long("--index", optarg, 0, 2000000000); break;
+		case O_RANDOM: set_sel(&o, JSEL_RANDOM); o.js.count = cli_long("--random", optarg, 1, 2000000000); break;
+		case O_LIST: set_sel(&o, JSEL_LIST); o.js.path = optarg; break;
+		case O_NET: set_sel(&o, JSEL_ALL); break;
 		case O_RATE: o.a.tau = 1 / cli_double_range("--rate", optarg, 1e-9, 1e9); break;
 		case O_TAU: o.a.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
 		case O_GAMMA0: o.a.gamma0 = cli_double_range("--gamma0", optarg, -1e6, 1e6); break;
@@ -170,18 +165,20 @@ static struct opts parse(int argc, char **argv)
 		default: cli_bad_option(argv, c);
 		}
 	}
-	if (o.sel == SEL_NONE)
+	if (o.js.kind == JSEL_NONE)
 		cli_usage_error("choose junctions with --junction, --index, --random, --list or --network");
 	if (argc - optind > 1)
 		cli_usage_error("at most one input file");
 	o.input = optind < argc ? argv[optind] : NULL;
-	act_opts_mode(&o.a, o.sel == SEL_NET, o.has_t1, o.has_scheme);
+	o.js.seed = o.seed;
+	const int network = o.js.kind == JSEL_ALL;
+	act_opts_mode(&o.a, network, o.has_t1, o.has_scheme);
 	if (o.a.t1_length > 0 && !(o.a.t1_new < o.a.t1_length))
 		cli_usage_error("--t1-new must be shorter than the T1 threshold");
 	if (o.a.sigma > 0 && o.a.scheme == ACT_BDF)
 		cli_usage_error("--scheme bdf has no noise; use --scheme euler with --sigma");
-	int multi = o.sel == SEL_RANDOM || o.sel == SEL_LIST;
-	if (o.nwatch && o.sel != SEL_NET)
+	int multi = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_LIST;
+	if (o.nwatch && !network)
 		cli_usage_error("--watch is for --network");
 	if (multi && o.every > 0)
 		cli_usage_error("--every writes frames of one run: not with --random or --list");
@@ -341,19 +338,15 @@ int main(int argc, char **argv)
 	cli_history(m);
 	model p = model_from_mesh(m);
 	cli_catch_signals();
-	if (o.sel == SEL_NET) {
+	if (o.js.kind == JSEL_ALL) {
 		one(&o, m, &p, -1);
 	} else {
 		int n;
 		mesh_error err;
 		int *sel = NULL;
-		int st = o.sel == SEL_PAIR ? junction_select_pair(m, o.va, o.vb, &sel, &n, &err)
-		       : o.sel == SEL_INDEX ? junction_select_index(m, o.index, &sel, &n, &err)
-		       : o.sel == SEL_RANDOM ? junction_select_random(m, o.nrandom, o.seed, &sel, &n, &err)
-		       : junction_select_file(m, o.list, &sel, &n, &err);
-		if (st != MESH_OK)
+		if (junction_select(m, &o.js, &sel, &n, &err) != MESH_OK)
 			cli_die(EXIT_INPUT, "%s", err.msg);
-		if (o.sel == SEL_PAIR || o.sel == SEL_INDEX)
+		if (o.js.kind == JSEL_PAIR || o.js.kind == JSEL_INDEX)
 			one(&o, m, &p, sel[0]);
 		else
 			several(&o, m, &p, sel, n);

@@ -45,12 +45,9 @@ static const char help[] =
 	"modes: g0star nan, exit 1).  Eigenvalue rows: p0 j a b l0 rate gamma0 re im,\n"
 	"the non-passive eigenvalue of largest real part (im >= 0).\n";
 
-enum { SEL_ALL, SEL_PAIR, SEL_INDEX, SEL_LIST };
-
 struct opts {
-	int sel, nsel;
-	long va, vb, index;
-	const char *list;
+	jsel js;
+	int nsel;
 	double *rate, *gamma0;
 	int nrate, ngamma0;
 	int has_p0, has_ka, dense, network;
@@ -59,11 +56,11 @@ struct opts {
 	const char *input;
 };
 
-static void set_sel(struct opts *o, int sel)
+static void set_sel(struct opts *o, jsel_kind kind)
 {
 	if (o->nsel++ > 0)
 		cli_usage_error("choose one of --junction, --index, --list, --all");
-	o->sel = sel;
+	o->js.kind = kind;
 }
 
 static double *positive_list(const char *opt, const char *arg, int *n, int invert)
@@ -104,21 +101,21 @@ static struct opts parse(int argc, char **argv)
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
-	struct opts o = { .sel = SEL_ALL };
+	struct opts o = { .js.kind = JSEL_ALL };
 	stab_opts_init(&o.so);
 	int c;
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
 		switch (c) {
 		case O_JUNCTION:
-			set_sel(&o, SEL_PAIR);
-			cli_vertex_pair("--junction", argc, argv, &o.va, &o.vb);
+			set_sel(&o, JSEL_PAIR);
+			cli_vertex_pair("--junction", argc, argv, &o.js.a, &o.js.b);
 			break;
 		case O_INDEX:
-			set_sel(&o, SEL_INDEX);
-			o.index = cli_long("--index", optarg, 0, 2000000000);
+			set_sel(&o, JSEL_INDEX);
+			o.js.index = cli_long("--index", optarg, 0, 2000000000);
 			break;
-		case O_LIST: set_sel(&o, SEL_LIST); o.list = optarg; break;
-		case O_ALL: set_sel(&o, SEL_ALL); break;
+		case O_LIST: set_sel(&o, JSEL_LIST); o.js.path = optarg; break;
+		case O_ALL: set_sel(&o, JSEL_ALL); break;
 		case O_RATE:
 		case O_TAU:
 			if (o.rate)
@@ -168,27 +165,6 @@ static struct opts parse(int argc, char **argv)
 	return o;
 }
 
-static int *select_junctions(const struct opts *o, const mesh *m, int *count)
-{
-	int *sel = NULL, st = MESH_OK;
-	mesh_error err;
-	switch (o->sel) {
-	case SEL_PAIR: st = junction_select_pair(m, o->va, o->vb, &sel, count, &err); break;
-	case SEL_INDEX: st = junction_select_index(m, o->index, &sel, count, &err); break;
-	case SEL_LIST: st = junction_select_file(m, o->list, &sel, count, &err); break;
-	default:
-		sel = malloc(((size_t)m->nj + 1) * sizeof *sel);
-		if (sel == NULL)
-			cli_die(EXIT_INPUT, "out of memory");
-		for (int j = 0; j < m->nj; j++)
-			sel[j] = j;
-		*count = m->nj;
-	}
-	if (st != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
-	return sel;
-}
-
 /* The header goes out before the first row, so that input refused before
  * any row (no mesh, not at force balance) leaves no output. */
 static void print_header(const struct opts *o, const mesh *m)
@@ -236,10 +212,11 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 			}
 		return 0;
 	}
-	int count;
-	int *sel = select_junctions(o, m, &count);
-	stab_decomp *sd;
+	int count, *sel;
 	mesh_error err;
+	if (junction_select(m, &o->js, &sel, &count, &err) != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err.msg);
+	stab_decomp *sd;
 	if (stab_decomp_alloc(m, p, &o->so, &sd, &err) != MESH_OK) {
 		free(sel);
 		cli_die(EXIT_INPUT, "%s", err.msg);
