@@ -693,6 +693,56 @@ void spchol_lean(spchol *c)
 	cholmod_free_sparse(&c->A, &c->cm);
 }
 
+/* The solve's single-precision layout is the whole factor. */
+struct spchol_saved {
+	size_t nf;
+	float *bf;
+};
+
+int spchol_save(const spchol *c, spchol_saved **s)
+{
+	if (!c->ok || c->big)
+		return MESH_EDOM;
+	size_t nf = (size_t)c->fp[c->nsn];
+	spchol_saved *t = *s;
+	if (t == NULL) {
+		if ((t = calloc(1, sizeof *t)) == NULL)
+			return MESH_ENOMEM;
+		*s = t;
+	}
+	if (t->bf == NULL || t->nf != nf) {
+		float *bf = realloc(t->bf, nf * sizeof *bf + 1);
+		if (bf == NULL)
+			return MESH_ENOMEM;
+		t->bf = bf;
+		t->nf = nf;
+	}
+	memcpy(t->bf, c->bf, nf * sizeof *t->bf);
+	return MESH_OK;
+}
+
+int spchol_restore(spchol *c, const spchol_saved *s)
+{
+	if (c->big || s->nf != (size_t)c->fp[c->nsn])
+		return MESH_EDOM;
+	memcpy(c->bf, s->bf, s->nf * sizeof *s->bf);
+	c->ok = 1;
+	return MESH_OK;
+}
+
+double spchol_saved_bytes(const spchol *c)
+{
+	return c->big ? 0 : 4 * (double)c->fp[c->nsn];
+}
+
+void spchol_saved_free(spchol_saved *s)
+{
+	if (s == NULL)
+		return;
+	free(s->bf);
+	free(s);
+}
+
 int spsym_ladder(spsym_factor_fn f, void *obj, const spsym *a, double smin, double *shift)
 {
 	if (!(smin > 0) || !isfinite(smin))
