@@ -695,7 +695,7 @@ void spchol_lean(spchol *c)
 
 /* The solve's single-precision layout is the whole factor. */
 struct spchol_saved {
-	size_t nf;
+	size_t nf, cap;        /* floats held, allocated */
 	float *bf;
 };
 
@@ -710,13 +710,17 @@ int spchol_save(const spchol *c, spchol_saved **s)
 			return MESH_ENOMEM;
 		*s = t;
 	}
-	if (t->bf == NULL || t->nf != nf) {
+	/* grown, never shrunk: a caller saving factors of one pattern after
+	 * another (a sweep per junction) reuses its buffers instead of
+	 * fragmenting the heap with reallocations of slightly other sizes */
+	if (t->bf == NULL || t->cap < nf) {
 		float *bf = realloc(t->bf, nf * sizeof *bf + 1);
 		if (bf == NULL)
 			return MESH_ENOMEM;
 		t->bf = bf;
-		t->nf = nf;
+		t->cap = nf;
 	}
+	t->nf = nf;
 	memcpy(t->bf, c->bf, nf * sizeof *t->bf);
 	return MESH_OK;
 }
