@@ -63,6 +63,12 @@ int fl_opts_check(const fl_opts *o, mesh_error *err)
 	return MESH_EDOM;
 }
 
+/* Factors kept per sweep, at most FL_NKEPT and FL_KEPTMEM bytes: 0.6 MB
+ * each for a 324-cell tissue, whose sweeps build 12 on average, 15 at
+ * most where no point misses. */
+#define FL_NKEPT 32
+#define FL_KEPTMEM 32e6
+
 /* The free variables x (n = 2 nv - 1): every vertex pair but b's, in vertex
  * order, then s = l t, the junction's angle as an arc length so that dW/ds
  * is a force like the others and every entry of the gradient is judged on
@@ -108,6 +114,15 @@ struct fl_work {
 	int have;
 	double *pr, *pg;      /* 2 nv: coordinates and gradient at the build */
 	long npc;             /* builds in this sweep */
+	/* The factors built in this sweep (up to FL_NKEPT) and the held
+	 * length of each, for the return legs (fl_switch). */
+	struct fl_kept {
+		double l, shift;
+		spchol_saved *f;
+	} kept[FL_NKEPT];
+	int nkept;
+	double pcl;           /* held length where the factor held was built */
+	int pck;              /* its entry in kept, or -1 */
 	/* The last solve, input and output (n each): Newton-CG asks for
 	 * M^{-1} g to see whether M exists and then for M^{-1} (-g), which
 	 * is the same up to sign, bit for bit. */
@@ -196,6 +211,8 @@ void fl_work_free(fl_work *w)
 	free(w->tq);
 	free(w->tp);
 	free(w->tw);
+	for (int k = 0; k < FL_NKEPT; k++)
+		spchol_saved_free(w->kept[k].f);
 	free(w);
 }
 
@@ -393,6 +410,49 @@ static int fl_pattern(fl_ctx *c)
 	return MESH_OK;
 }
 
+/* The factor just built at held length c->l, kept while there is room
+ * (not keeping one costs nothing but time). */
+static void fl_keep(fl_ctx *c)
+{
+	fl_work *w = c->w;
+	double b = spchol_saved_bytes(w->ch);
+	if (w->nkept >= FL_NKEPT || !(b > 0) || (w->nkept + 1) * b > FL_KEPTMEM ||
+	    spchol_save(w->ch, &w->kept[w->nkept].f) != MESH_OK)
+		return;
+	w->kept[w->nkept].l = c->l;
+	w->kept[w->nkept].shift = w->shift;
+	w->pck = w->nkept++;
+}
+
+/* Before a point at the held length c->l: if a kept factor was built
+ * nearer this length than the one held, switch to it.  A return leg then
+ * uses the outward leg's factors in reverse, each where it is nearest,
+ * instead of building its own (it retraces the outward states unless the
+ * tissue jumped: 0.63 of the builds, bench/RESULTS.md); where the tissue
+ * took another branch CG is slow with it, and min_run builds a new one as
+ * ever. */
+static void fl_switch(fl_ctx *c)
+{
+	fl_work *w = c->w;
+	if (!w->have)
+		return;
+	int best = -1;
+	double bd = fabs(c->l - w->pcl) * (1 - 1e-9) - 1e-12;
+	for (int k = 0; k < w->nkept; k++) {
+		double d = fabs(c->l - w->kept[k].l);
+		if (d < bd && k != w->pck) {
+			bd = d;
+			best = k;
+		}
+	}
+	if (best < 0 || spchol_restore(w->ch, w->kept[best].f) != MESH_OK)
+		return;
+	w->shift = w->kept[best].shift;
+	w->svalid = 0;
+	w->pcl = w->kept[best].l;
+	w->pck = best;
+}
+
 /* Build M = H_x + shift I at x: the terms listed by fl_pattern, plus the
  * curvature -grad_b W . e / l on (s, s) as in fl_hessvec. */
 static int fl_pcsetup(const double *x, void *data)
@@ -419,6 +479,9 @@ static int fl_pcsetup(const double *x, void *data)
 	if (spchol_precond(w->ch, hx, &w->shift) != MESH_OK)
 		return -1;
 	w->have = 1;
+	w->pcl = c->l;
+	w->pck = -1;
+	fl_keep(c);
 	return 0;
 }
 
@@ -619,6 +682,8 @@ static int leg(fl_ctx *c, const fl_opts *o, double l0, double sgn, int k0,
 			lold = lgood;
 		}
 		predict(c, o, have, lold);
+		if (o->min.precond)
+			fl_switch(c);
 		int st = solve_point(c, o, dir, &pts[*np]);
 		if (st != MESH_OK)
 			return st;
@@ -667,6 +732,8 @@ int fl_sweep(const mesh *m, const model *p, int j, const fl_opts *o,
 	w->svalid = 0;
 	w->shift = 0;
 	w->npc = 0;
+	w->nkept = 0;
+	w->pck = -1;
 	if (o->min.precond) {
 		/* The topology may differ from the last sweep's (same counts):
 		 * patterns are made afresh.  A sweep reuses one factorization

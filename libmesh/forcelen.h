@@ -56,8 +56,10 @@ typedef struct {
  * Cholesky factorization of the exact Hessian in the sweep's variables,
  * built at the rest state and rebuilt only when CG needs more than
  * min.pcmaxit iterations with it (at the next Newton step, or at the
- * solution of a point that converged in one); min.pcsetup and pcapply
- * are ignored. */
+ * solution of a point that converged in one); a sweep keeps the factors
+ * it builds (fl_work, up to 32 and 32 MB) and a return leg switches to
+ * the one built nearest its held length.  min.pcsetup and pcapply are
+ * ignored. */
 void fl_opts_init(fl_opts *o);
 /* MESH_EDOM with msg if an option is out of range. */
 int fl_opts_check(const fl_opts *o, mesh_error *err);

@@ -465,6 +465,27 @@ KERNEL_INLINE void dot4d(const double *a0, const double *a1, const double *a2,
 
 static void to_solve_layout(spchol *c);
 
+/* Row i of supernode K's update of J: Fi[RK[j]] -= L_i . L_j for j in
+ * [j0, j1), four j at a time against one load of L_i (dot4d's sums are
+ * dotd's, term by term: the same bits as one dotd per j). */
+KERNEL_INLINE void row_update(double *Fi, const int *RK, const double *LK, int wk,
+                              int i, int j0, int j1)
+{
+	const double *Li = LK + (long)i * wk;
+	int j = j0;
+	for (; j + 3 < j1; j += 4) {
+		const double *L0 = LK + (long)j * wk;
+		double d[4];
+		dot4d(L0, L0 + wk, L0 + 2 * wk, L0 + 3 * wk, Li, wk, d);
+		Fi[RK[j]] -= d[0];
+		Fi[RK[j + 1]] -= d[1];
+		Fi[RK[j + 2]] -= d[2];
+		Fi[RK[j + 3]] -= d[3];
+	}
+	for (; j < j1; j++)
+		Fi[RK[j]] -= dotd(Li, LK + (long)j * wk, wk);
+}
+
 /* Supernodal left-looking: supernode J gathers the updates of every
  * earlier supernode K with rows in J's columns; those wait in a linked
  * list headed at the supernode of their next row (George and Liu), so no
@@ -505,12 +526,8 @@ KERNEL_INLINE int factor_body(spchol *c, const spsym *a, double shift)
 			int q = p;
 			while (q < mk && RK[q] < f + w)
 				q++;
-			for (int i = p; i < q; i++) {
-				const double *Li = LK + (long)i * wk;
-				double *Fi = F + (long)rel[RK[i]] * w - f;
-				for (int j = p; j <= i; j++)
-					Fi[RK[j]] -= dotd(Li, LK + (long)j * wk, wk);
-			}
+			for (int i = p; i < q; i++)
+				row_update(F + (long)rel[RK[i]] * w - f, RK, LK, wk, i, p, i + 1);
 			int i = q;
 			for (; i + 3 < mk; i += 4) {
 				const double *L0 = LK + (long)i * wk;
@@ -527,12 +544,8 @@ KERNEL_INLINE int factor_body(spchol *c, const spsym *a, double shift)
 					F3[RK[j]] -= d[3];
 				}
 			}
-			for (; i < mk; i++) {
-				const double *Li = LK + (long)i * wk;
-				double *Fi = F + (long)rel[RK[i]] * w - f;
-				for (int j = p; j < q; j++)
-					Fi[RK[j]] -= dotd(Li, LK + (long)j * wk, wk);
-			}
+			for (; i < mk; i++)
+				row_update(F + (long)rel[RK[i]] * w - f, RK, LK, wk, i, p, q);
 			if (q < mk) {
 				pos[K] = q;
 				int S2 = c->colsn[RK[q]];
@@ -553,10 +566,15 @@ KERNEL_INLINE int factor_body(spchol *c, const spsym *a, double shift)
 				double *Fu = F + (long)u * w;
 				double dd[4];
 				dot4d(Fu, Fu + w, Fu + 2 * w, Fu + 3 * w, Ft, t, dd);
-				Fu[t] = (Fu[t] - dd[0]) / d;
-				Fu[w + t] = (Fu[w + t] - dd[1]) / d;
-				Fu[2 * w + t] = (Fu[2 * w + t] - dd[2]) / d;
-				Fu[3 * w + t] = (Fu[3 * w + t] - dd[3]) / d;
+				/* one vector division for four (each exactly
+				 * rounded: the same bits as four scalar ones) */
+				v4df q4 = (v4df){ Fu[t] - dd[0], Fu[w + t] - dd[1],
+				                  Fu[2 * w + t] - dd[2], Fu[3 * w + t] - dd[3] } /
+				          (v4df){ d, d, d, d };
+				Fu[t] = q4[0];
+				Fu[w + t] = q4[1];
+				Fu[2 * w + t] = q4[2];
+				Fu[3 * w + t] = q4[3];
 			}
 			for (; u < m; u++) {
 				double *Fu = F + (long)u * w;
@@ -673,6 +691,60 @@ void spchol_lean(spchol *c)
 	free(c->bx);
 	c->bx = NULL;
 	cholmod_free_sparse(&c->A, &c->cm);
+}
+
+/* The solve's single-precision layout is the whole factor. */
+struct spchol_saved {
+	size_t nf, cap;        /* floats held, allocated */
+	float *bf;
+};
+
+int spchol_save(const spchol *c, spchol_saved **s)
+{
+	if (!c->ok || c->big)
+		return MESH_EDOM;
+	size_t nf = (size_t)c->fp[c->nsn];
+	spchol_saved *t = *s;
+	if (t == NULL) {
+		if ((t = calloc(1, sizeof *t)) == NULL)
+			return MESH_ENOMEM;
+		*s = t;
+	}
+	/* grown, never shrunk: a caller saving factors of one pattern after
+	 * another (a sweep per junction) reuses its buffers instead of
+	 * fragmenting the heap with reallocations of slightly other sizes */
+	if (t->bf == NULL || t->cap < nf) {
+		float *bf = realloc(t->bf, nf * sizeof *bf + 1);
+		if (bf == NULL)
+			return MESH_ENOMEM;
+		t->bf = bf;
+		t->cap = nf;
+	}
+	t->nf = nf;
+	memcpy(t->bf, c->bf, nf * sizeof *t->bf);
+	return MESH_OK;
+}
+
+int spchol_restore(spchol *c, const spchol_saved *s)
+{
+	if (c->big || s->nf != (size_t)c->fp[c->nsn])
+		return MESH_EDOM;
+	memcpy(c->bf, s->bf, s->nf * sizeof *s->bf);
+	c->ok = 1;
+	return MESH_OK;
+}
+
+double spchol_saved_bytes(const spchol *c)
+{
+	return c->big ? 0 : 4 * (double)c->fp[c->nsn];
+}
+
+void spchol_saved_free(spchol_saved *s)
+{
+	if (s == NULL)
+		return;
+	free(s->bf);
+	free(s);
 }
 
 int spsym_ladder(spsym_factor_fn f, void *obj, const spsym *a, double smin, double *shift)

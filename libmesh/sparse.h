@@ -67,6 +67,21 @@ double spchol_bytes(const spchol *c);
  * a solve is ~4 flops per entry). */
 long spchol_nnz(const spchol *c);
 
+/* A copy of the numeric factor c holds, to be put back later (a caller
+ * that comes back to a matrix it has factored before: tis-forcelen's
+ * return legs).  spchol_save copies c's factor into *s, allocating it
+ * when *s is NULL and reusing it otherwise (resized if it was saved from
+ * another pattern); MESH_OK, MESH_EDOM if c holds no usable factor or its factor
+ * is CHOLMOD's (large factors are not copied), MESH_ENOMEM.
+ * spchol_restore makes s c's factor again (c analyzed for the pattern s
+ * was saved from): MESH_OK or MESH_EDOM. */
+typedef struct spchol_saved spchol_saved;
+int spchol_save(const spchol *c, spchol_saved **s);
+int spchol_restore(spchol *c, const spchol_saved *s);
+void spchol_saved_free(spchol_saved *s);
+/* Bytes a save of c's factor takes (0: c's factor is not saved). */
+double spchol_saved_bytes(const spchol *c);
+
 /* Factor A + shift I (a must have the pattern c was analyzed for).  MESH_OK,
  * MESH_EDOM if it is not numerically positive definite (a pivot below
  * 1e-12 times the largest diagonal entry), MESH_ENOMEM if memory ran out;
