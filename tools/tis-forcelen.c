@@ -58,12 +58,8 @@ static const char help[] =
 	"back (returning), fres the residual force of the point.  Exit status 3\n"
 	"if some point missed the tolerance (all rows are still written).\n";
 
-enum { SEL_NONE, SEL_PAIR, SEL_INDEX, SEL_RANDOM, SEL_ALL };
-
 struct opts {
-	int sel;
-	long va, vb, index, nrandom;
-	unsigned long seed;
+	jsel js;
 	int has_p0, has_ka;
 	double p0, ka;
 	fl_opts fl;
@@ -71,11 +67,11 @@ struct opts {
 	const char *input;
 };
 
-static void set_sel(struct opts *o, int sel)
+static void set_sel(struct opts *o, jsel_kind kind)
 {
-	if (o->sel != SEL_NONE && o->sel != sel)
+	if (o->js.kind != JSEL_NONE && o->js.kind != kind)
 		cli_usage_error("choose one of --junction, --index, --random, --all");
-	o->sel = sel;
+	o->js.kind = kind;
 }
 
 static struct opts parse(int argc, char **argv)
@@ -107,7 +103,7 @@ static struct opts parse(int argc, char **argv)
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
-	struct opts o = { .sel = SEL_NONE, .seed = 1, .relax = 1, .threads = 2 };
+	struct opts o = { .js = { .kind = JSEL_NONE, .seed = 1 }, .relax = 1, .threads = 2 };
 	fl_opts_init(&o.fl);
 	const char *sweep_opt = NULL;   /* the first option only a sweep uses */
 	int c;
@@ -118,22 +114,19 @@ static struct opts parse(int argc, char **argv)
 			sweep_opt = lo[li].name;
 		switch (c) {
 		case O_JUNCTION:
-			set_sel(&o, SEL_PAIR);
-			o.va = cli_long("--junction", optarg, 0, 2000000000);
-			if (optind >= argc)
-				cli_usage_error("option '--junction' needs two vertex ids");
-			o.vb = cli_long("--junction", argv[optind++], 0, 2000000000);
+			set_sel(&o, JSEL_PAIR);
+			cli_vertex_pair("--junction", argc, argv, &o.js.a, &o.js.b);
 			break;
 		case O_INDEX:
-			set_sel(&o, SEL_INDEX);
-			o.index = cli_long("--index", optarg, 0, 2000000000);
+			set_sel(&o, JSEL_INDEX);
+			o.js.index = cli_long("--index", optarg, 0, 2000000000);
 			break;
 		case O_RANDOM:
-			set_sel(&o, SEL_RANDOM);
-			o.nrandom = cli_long("--random", optarg, 1, 2000000000);
+			set_sel(&o, JSEL_RANDOM);
+			o.js.count = cli_long("--random", optarg, 1, 2000000000);
 			break;
-		case O_SEED: o.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_ALL: set_sel(&o, SEL_ALL); break;
+		case O_SEED: o.js.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
+		case O_ALL: set_sel(&o, JSEL_ALL); break;
 		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
 		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
 		case O_STEP: o.fl.step = cli_double_range("--step", optarg, 1e-9, 10); break;
@@ -156,7 +149,7 @@ static struct opts parse(int argc, char **argv)
 		default: cli_bad_option(argv, c);
 		}
 	}
-	if (o.sel == SEL_NONE)
+	if (o.js.kind == JSEL_NONE)
 		cli_usage_error("choose junctions with --junction, --index, --random or --all");
 	if (o.linear && sweep_opt)
 		cli_usage_error("--linear sweeps nothing: --%s does nothing with it", sweep_opt);
@@ -171,22 +164,9 @@ static struct opts parse(int argc, char **argv)
 /* The junctions to measure, in output order. */
 static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 {
-	int *sel = NULL, n = 0, st = MESH_OK;
+	int *sel, n;
 	mesh_error err;
-	switch (o->sel) {
-	case SEL_PAIR: st = junction_select_pair(m, o->va, o->vb, &sel, &n, &err); break;
-	case SEL_INDEX: st = junction_select_index(m, o->index, &sel, &n, &err); break;
-	case SEL_RANDOM: st = junction_select_random(m, o->nrandom, o->seed, &sel, &n, &err); break;
-	case SEL_ALL:
-		sel = malloc(((size_t)m->nj + 1) * sizeof *sel);
-		if (sel)
-			for (; n < m->nj; n++)
-				sel[n] = n;
-		else
-			st = mesh_error_set(&err, 0, MESH_ENOMEM, "out of memory");
-		break;
-	}
-	if (st != MESH_OK)
+	if (junction_select(m, &o->js, &sel, &n, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	int nshort = 0;
 	for (int k = 0; k < n && !o->linear; k++)
