@@ -4,6 +4,9 @@
 
 #include <math.h>
 #include <stdlib.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 model model_from_mesh(const mesh *m)
 {
@@ -155,15 +158,61 @@ const double *energy_ws_lengths(const energy_ws *w)
 	return w->len;
 }
 
-/* The largest |g_v|^2, NaNs passed over (as the dynamics always did). */
+/* (p[0] + p[1], q[0] + q[1]) */
+static inline v2d hsum2(v2d p, v2d q)
+{
+#ifdef __clang__
+	return __builtin_shufflevector(p, q, 0, 2) + __builtin_shufflevector(p, q, 1, 3);
+#else
+	return __builtin_shuffle(p, q, (v2i){ 0, 2 }) + __builtin_shuffle(p, q, (v2i){ 1, 3 });
+#endif
+}
+
+/* (y, x) from (x, y) in one instruction: v2d_swap compiles to a copy and
+ * a palignr, pshufd needs no copy (3 instructions less per vertex). */
+static inline v2d swap1(v2d a)
+{
+#ifdef __SSE2__
+	return (v2d)_mm_shuffle_epi32((__m128i)a, 0x4e);
+#else
+	return v2d_swap(a);
+#endif
+}
+
+/* The largest |g_v|^2, NaNs passed over (as the dynamics always did): two
+ * vertices at a time, each lane a maximum of its own (exact, so the two
+ * combine to the same number in any order). */
 static double gmax2(int nv, const v2d *g)
 {
-	double f2 = 0;
-	for (int v = 0; v < nv; v++) {
-		v2d q = g[v] * g[v];
-		f2 = q[0] + q[1] > f2 ? q[0] + q[1] : f2;
+	v2d f2 = { 0, 0 };
+	int v = 0;
+	for (; v + 1 < nv; v += 2) {
+		v2d q = hsum2(g[v] * g[v], g[v + 1] * g[v + 1]);
+#ifdef __SSE2__
+		f2 = (v2d)_mm_max_pd((__m128d)q, (__m128d)f2);   /* q > f2 ? q : f2 */
+#else
+		f2 = (v2d){ q[0] > f2[0] ? q[0] : f2[0], q[1] > f2[1] ? q[1] : f2[1] };
+#endif
 	}
-	return f2;
+	double m = f2[1] > f2[0] ? f2[1] : f2[0];
+	if (v < nv) {
+		v2d q = g[v] * g[v];
+		m = q[0] + q[1] > m ? q[0] + q[1] : m;
+	}
+	return m;
+}
+
+/* sqrt without the errno test that <math.h>'s sqrt carries (its operand,
+ * a sum of squares, is never negative): 2 instructions less per junction.
+ * Two junctions' square roots as one instruction: the same correctly
+ * rounded operation in each lane, at the cost of one. */
+static inline v2d sqrt2(v2d x)
+{
+#ifdef __SSE2__
+	return (v2d)_mm_sqrt_pd((__m128d)x);
+#else
+	return (v2d){ sqrt(x[0]), sqrt(x[1]) };
+#endif
 }
 
 /* Junction j's vertices and image offset, from the packed codes or from
@@ -180,6 +229,17 @@ jvec(const mesh *m, const v2d *r2, int j, int packed, int *a, int *b)
 	*a = m->jv[2 * j];
 	*b = m->jv[2 * j + 1];
 	return r2[*b] - r2[*a] + ((const v2d *)m->jimg)[j];
+}
+
+/* Corner i of a cell, relative to its first corner x0. */
+static inline __attribute__((always_inline)) v2d
+corner(const mesh *m, const v2d *r2, int i, v2d x0, int packed)
+{
+	if (packed) {
+		unsigned u = m->kcv[i];
+		return r2[u & MESH_KMASK] + ((const v2d *)m->kimg)[u >> MESH_KSHIFT] - x0;
+	}
+	return r2[m->cv[i]] + ((const v2d *)m->cimg)[i] - x0;
 }
 
 /* Three passes keep every loop simple enough to pipeline: junction
@@ -199,46 +259,59 @@ jvec(const mesh *m, const v2d *r2, int j, int packed, int *a, int *b)
 /* form 0, a tissue in cache, where instructions count: the double
  * arrays, the junction vectors kept for the gradient pass.  2, a tissue in
  * memory, where bytes count: the codes, lengths only and the fused
- * gradient pass below.  1: form 2 without the codes (kok = 0). */
+ * gradient pass below.  1: form 2 without the codes (kok = 0).  tens: dg
+ * is not NULL (a constant, so that no junction tests it). */
 static inline __attribute__((always_inline)) double
 energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
-              double *grad, double *g2max, energy_ws *w, const int form)
+              double *grad, double *g2max, energy_ws *w, const int form, const int tens)
 {
 	const int packed = form == 2;
 	const int nj = m->nj, nc = m->nc;
 	const v2d *r2 = (const v2d *)r;
-	double *restrict len = w->len, *restrict cc = w->cc;
+	double *restrict len = w->len;
+	v2d *restrict cc = (v2d *)w->cc;
 	v2d *restrict vec = (v2d *)w->vec;
-	for (int j = 0; j < nj; j++) {
+	int j = 0;
+	for (; j + 1 < nj; j += 2) {
 		int a, b;
-		v2d d = jvec(m, r2, j, packed, &a, &b), q = d * d;
+		v2d d0 = jvec(m, r2, j, packed, &a, &b), d1 = jvec(m, r2, j + 1, packed, &a, &b);
+		if (form == 0) {
+			vec[j] = d0;
+			vec[j + 1] = d1;
+		}
+		*(v2d *)(len + j) = sqrt2(hsum2(d0 * d0, d1 * d1));
+	}
+	if (j < nj) {
+		int a, b;
+		v2d d = jvec(m, r2, j, packed, &a, &b);
 		if (form == 0)
 			vec[j] = d;
-		len[j] = sqrt(q[0] + q[1]);
+		len[j] = sqrt2(hsum2(d * d, d * d))[0];
 	}
 
-	const int *restrict coff = m->coff, *restrict cv = m->cv, *restrict cj = m->cj;
-	const unsigned *restrict kcv = m->kcv;
-	const v2d *restrict cimg = (const v2d *)m->cimg, *restrict kimg = (const v2d *)m->kimg;
+	/* two corners per iteration: no copy of the previous corner, half
+	 * the loop tests */
+	const int *restrict coff = m->coff, *restrict cj = m->cj;
 	const double ka = p->ka, p0 = p->p0;
 	double W = 0;
 	for (int k = 0; k < nc; k++) {
-		int s = coff[k], e = coff[k + 1];
-		v2d x0 = r2[packed ? (int)(kcv[s] & MESH_KMASK) : cv[s]], acc = { 0, 0 }, prev = { 0, 0 };
+		int s = coff[k], e = coff[k + 1], i = s + 1;
+		v2d x0 = r2[packed ? (int)(m->kcv[s] & MESH_KMASK) : m->cv[s]], acc = { 0, 0 }, prev = { 0, 0 };
 		double per = len[cj[s]];
-		for (int i = s + 1; i < e; i++) {
-			v2d q;
-			if (packed) {
-				unsigned u = kcv[i];
-				q = r2[u & MESH_KMASK] + kimg[u >> MESH_KSHIFT] - x0;
-			} else {
-				q = r2[cv[i]] + cimg[i] - x0;
-			}
-			acc += prev * v2d_swap(q);
+		for (; i + 1 < e; i += 2) {
+			v2d q = corner(m, r2, i, x0, packed);
+			acc += prev * swap1(q);
 			per += len[cj[i]];
-			prev = q;
+			prev = corner(m, r2, i + 1, x0, packed);
+			acc += q * swap1(prev);
+			per += len[cj[i + 1]];
 		}
-		W += cell_factor(acc, per, ka, p0, cc + 2 * k);
+		if (i < e) {
+			v2d q = corner(m, r2, i, x0, packed);
+			acc += prev * swap1(q);
+			per += len[cj[i]];
+		}
+		W += cell_factor(acc, per, ka, p0, (double *)(cc + k));
 	}
 	if (grad == NULL)
 		return W;
@@ -248,9 +321,9 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 	if (form < 2) {
 		for (int v = 0; v < m->nv; v++)
 			g2[v] = (v2d){ 0, 0 };
-		for (int j = 0; j < nj; j++) {
-			int L = jc[2 * j], R = jc[2 * j + 1], a, b;
-			v2d d;
+		for (j = 0; j < nj; j++) {
+			v2d cl = cc[jc[2 * j]], cr = cc[jc[2 * j + 1]], d;
+			int a, b;
 			if (form == 0) {
 				a = m->jv[2 * j];
 				b = m->jv[2 * j + 1];
@@ -258,9 +331,9 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			} else {
 				d = jvec(m, r2, j, 0, &a, &b);
 			}
-			double t = (cc[2 * L + 1] + cc[2 * R + 1] + (dg ? dg[j] : 0.0)) / len[j];
-			double h = 0.5 * (cc[2 * L] - cc[2 * R]);
-			v2d perp = (v2d){ h, -h } * v2d_swap(d), tan = t * d;
+			double t = (cl[1] + cr[1] + (tens ? dg[j] : 0.0)) / len[j];
+			double h = 0.5 * (cl[0] - cr[0]);
+			v2d perp = (v2d){ h, -h } * swap1(d), tan = t * d;
 			g2[a] += perp - tan;
 			g2[b] += perp + tan;
 		}
@@ -278,13 +351,14 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 	 * the branch predictor learns. */
 	const unsigned *restrict kjv = m->kjv;
 	double q2 = 0;
-	for (int j = 0; j < nj; j++) {
-		int L = jc[2 * j], R = jc[2 * j + 1], a, b;
+	for (j = 0; j < nj; j++) {
+		v2d cl = cc[jc[2 * j]], cr = cc[jc[2 * j + 1]];
+		int a, b;
 		v2d d = jvec(m, r2, j, 1, &a, &b);
 		long long fl = kjv[2 * j + 1] >> MESH_KSHIFT;
-		double t = (cc[2 * L + 1] + cc[2 * R + 1] + (dg ? dg[j] : 0.0)) / len[j];
-		double h = 0.5 * (cc[2 * L] - cc[2 * R]);
-		v2d perp = (v2d){ h, -h } * v2d_swap(d), tan = t * d;
+		double t = (cl[1] + cr[1] + (tens ? dg[j] : 0.0)) / len[j];
+		double h = 0.5 * (cl[0] - cr[0]);
+		v2d perp = (v2d){ h, -h } * swap1(d), tan = t * d;
 		v2i keep_a = (v2i){ 0, 0 } - ((fl & MESH_KFIRST_A) == 0);
 		v2d ga = (v2d)((v2i)g2[a] & keep_a) + (perp - tan);
 		g2[a] = ga;
@@ -307,11 +381,14 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 double mesh_energy_force(const mesh *m, const double *r, const model *p,
                          const double *dg, double *grad, double *g2max, energy_ws *w)
 {
-	if (w->vec)
-		return energy_kernel(m, r, p, dg, grad, g2max, w, 0);
-	if (m->kok)
-		return energy_kernel(m, r, p, dg, grad, g2max, w, 2);
-	return energy_kernel(m, r, p, dg, grad, g2max, w, 1);
+	int form = w->vec ? 0 : m->kok ? 2 : 1;
+	if (dg == NULL)
+		return form == 0 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 0, 0) :
+		       form == 2 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 2, 0) :
+		                   energy_kernel(m, r, p, NULL, grad, g2max, w, 1, 0);
+	return form == 0 ? energy_kernel(m, r, p, dg, grad, g2max, w, 0, 1) :
+	       form == 2 ? energy_kernel(m, r, p, dg, grad, g2max, w, 2, 1) :
+	                   energy_kernel(m, r, p, dg, grad, g2max, w, 1, 1);
 }
 
 double mesh_energy_tension(const mesh *m, const double *r, const model *p,
