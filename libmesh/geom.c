@@ -66,7 +66,9 @@ struct energy_ws {
 	double *len;  /* per junction: its length */
 	double *vec;  /* 2 per junction: its vector; NULL on a large tissue,
 	                 where the gradient pass computes it again */
-	double *cc;   /* 2 per cell: dW/dA, dW/dP */
+	double *cc;   /* per cell dW/dA, then per cell dW/dP: apart, so that
+	                 the gradient pass indexes them by cell id without a
+	                 shift (2 instructions less per cell it reads) */
 };
 
 energy_ws *energy_ws_alloc(const mesh *m)
@@ -119,13 +121,13 @@ void mesh_junction_vectors(const mesh *m, const double *r, double *jd)
 /* The area is the shoelace sum relative to the first corner; its cross
  * products are accumulated as pairs (sum of x_i y_j and of y_i x_j apart)
  * and subtracted once per cell.  From them and the perimeter: dW/dA and
- * dW/dP into f[0], f[1], and the cell's energy. */
-static inline double cell_factor(v2d acc, double per, double ka, double p0, double *f)
+ * dW/dP into *fa, *fp, and the cell's energy. */
+static inline double cell_factor(v2d acc, double per, double ka, double p0, double *fa, double *fp)
 {
 	double a = 0.5 * (acc[0] - acc[1]);
 	double da = a - 1, dp = per - p0;
-	f[0] = 2 * ka * da;
-	f[1] = 2 * dp;
+	*fa = 2 * ka * da;
+	*fp = 2 * dp;
 	return ka * da * da + dp * dp;
 }
 
@@ -148,7 +150,7 @@ double mesh_cell_factors(const mesh *m, const double *r, const model *p,
 			per += jd[3 * cj[i] + 2];
 			prev = q;
 		}
-		W += cell_factor(acc, per, ka, p0, cc + 2 * k);
+		W += cell_factor(acc, per, ka, p0, cc + 2 * k, cc + 2 * k + 1);
 	}
 	return W;
 }
@@ -256,23 +258,15 @@ corner(const mesh *m, const v2d *r2, int i, v2d x0, int packed)
  * between passes (the third pass computes the vectors again, from
  * coordinates that the spatial order keeps in cache), and with packed
  * codes (mesh_kernel_build) a corner is 4 bytes and a junction 8. */
-/* form 0, a tissue in cache, where instructions count: the double
- * arrays, the junction vectors kept for the gradient pass.  2, a tissue in
- * memory, where bytes count: the codes, lengths only and the fused
- * gradient pass below.  1: form 2 without the codes (kok = 0).  tens: dg
- * is not NULL (a constant, so that no junction tests it). */
-static inline __attribute__((always_inline)) double
-energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
-              double *grad, double *g2max, energy_ws *w, const int form, const int tens)
+/* Pass 1, junctions j0 <= j < j1: lengths, and for form 0 the vectors. */
+static inline __attribute__((always_inline)) void
+pass_lengths(const mesh *m, const v2d *r2, energy_ws *w, int j0, int j1, const int form)
 {
 	const int packed = form == 2;
-	const int nj = m->nj, nc = m->nc;
-	const v2d *r2 = (const v2d *)r;
 	double *restrict len = w->len;
-	v2d *restrict cc = (v2d *)w->cc;
 	v2d *restrict vec = (v2d *)w->vec;
-	int j = 0;
-	for (; j + 1 < nj; j += 2) {
+	int j = j0;
+	for (; j + 1 < j1; j += 2) {
 		int a, b;
 		v2d d0 = jvec(m, r2, j, packed, &a, &b), d1 = jvec(m, r2, j + 1, packed, &a, &b);
 		if (form == 0) {
@@ -281,20 +275,28 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 		}
 		*(v2d *)(len + j) = sqrt2(hsum2(d0 * d0, d1 * d1));
 	}
-	if (j < nj) {
+	if (j < j1) {
 		int a, b;
 		v2d d = jvec(m, r2, j, packed, &a, &b);
 		if (form == 0)
 			vec[j] = d;
 		len[j] = sqrt2(hsum2(d * d, d * d))[0];
 	}
+}
 
-	/* two corners per iteration: no copy of the previous corner, half
-	 * the loop tests */
+/* Pass 2, cells k0 <= k < k1: dW/dA and dW/dP into cc, their energies
+ * added to W in cell order.  Two corners per iteration: no copy of the
+ * previous corner, half the loop tests. */
+static inline __attribute__((always_inline)) double
+pass_cells(const mesh *m, const v2d *r2, const model *p, energy_ws *w, int k0, int k1,
+           double W, const int form)
+{
+	const int packed = form == 2;
 	const int *restrict coff = m->coff, *restrict cj = m->cj;
+	const double *restrict len = w->len;
+	double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
 	const double ka = p->ka, p0 = p->p0;
-	double W = 0;
-	for (int k = 0; k < nc; k++) {
+	for (int k = k0; k < k1; k++) {
 		int s = coff[k], e = coff[k + 1], i = s + 1;
 		v2d x0 = r2[packed ? (int)(m->kcv[s] & MESH_KMASK) : m->cv[s]], acc = { 0, 0 }, prev = { 0, 0 };
 		double per = len[cj[s]];
@@ -311,54 +313,35 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			acc += prev * swap1(q);
 			per += len[cj[i]];
 		}
-		W += cell_factor(acc, per, ka, p0, (double *)(cc + k));
+		W += cell_factor(acc, per, ka, p0, aw + k, pw + k);
 	}
-	if (grad == NULL)
-		return W;
+	return W;
+}
 
-	v2d *g2 = (v2d *)grad;
+/* Pass 3 of a tissue in memory, junctions j0 <= j < j1, with the codes: a
+ * vertex's sum starts at its first junction (0 + term, the same number
+ * as adding to a zeroed array) and is complete at its last, where its
+ * square enters the maximum *q2 (if g2max): no pass to zero the gradient
+ * and none to find the largest force, 48 bytes per vertex less from
+ * memory, for about 10 instructions more per junction, which in cache
+ * cost more than they save.  Masks instead of branches, as first and last
+ * follow no pattern the branch predictor learns. */
+static inline __attribute__((always_inline)) void
+pass_grad_codes(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2d *g2,
+                int j0, int j1, double *g2max, double *q2p, const int tens)
+{
 	const int *restrict jc = m->jc;
-	if (form < 2) {
-		for (int v = 0; v < m->nv; v++)
-			g2[v] = (v2d){ 0, 0 };
-		for (j = 0; j < nj; j++) {
-			v2d cl = cc[jc[2 * j]], cr = cc[jc[2 * j + 1]], d;
-			int a, b;
-			if (form == 0) {
-				a = m->jv[2 * j];
-				b = m->jv[2 * j + 1];
-				d = vec[j];
-			} else {
-				d = jvec(m, r2, j, 0, &a, &b);
-			}
-			double t = (cl[1] + cr[1] + (tens ? dg[j] : 0.0)) / len[j];
-			double h = 0.5 * (cl[0] - cr[0]);
-			v2d perp = (v2d){ h, -h } * swap1(d), tan = t * d;
-			g2[a] += perp - tan;
-			g2[b] += perp + tan;
-		}
-		if (g2max)
-			*g2max = gmax2(m->nv, g2);
-		return W;
-	}
-	/* A tissue larger than the caches: a vertex's sum starts at its first
-	 * junction (0 + term, the same number as adding to a zeroed array)
-	 * and is complete at its last, where its square enters the maximum:
-	 * no pass to zero the gradient and none to find the largest force,
-	 * 48 bytes per vertex less from memory, for about 10 instructions
-	 * more per junction, which in cache cost more than they save.
-	 * Masks instead of branches, as first and last follow no pattern
-	 * the branch predictor learns. */
 	const unsigned *restrict kjv = m->kjv;
-	double q2 = 0;
-	for (j = 0; j < nj; j++) {
-		v2d cl = cc[jc[2 * j]], cr = cc[jc[2 * j + 1]];
-		int a, b;
+	const double *restrict len = w->len;
+	const double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
+	double q2 = *q2p;
+	for (int j = j0; j < j1; j++) {
+		int L = jc[2 * j], R = jc[2 * j + 1], a, b;
 		v2d d = jvec(m, r2, j, 1, &a, &b);
 		long long fl = kjv[2 * j + 1] >> MESH_KSHIFT;
-		double t = (cl[1] + cr[1] + (tens ? dg[j] : 0.0)) / len[j];
-		double h = 0.5 * (cl[0] - cr[0]);
-		v2d perp = (v2d){ h, -h } * swap1(d), tan = t * d;
+		double t = (pw[L] + pw[R] + (tens ? dg[j] : 0.0)) / len[j];
+		double x = aw[L] - aw[R];
+		v2d perp = (v2d){ x, x } * (v2d){ 0.5, -0.5 } * swap1(d), tan = t * d;
 		v2i keep_a = (v2i){ 0, 0 } - ((fl & MESH_KFIRST_A) == 0);
 		v2d ga = (v2d)((v2i)g2[a] & keep_a) + (perp - tan);
 		g2[a] = ga;
@@ -373,8 +356,57 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			q2 = sb > q2 ? sb : q2;
 		}
 	}
+	*q2p = q2;
+}
+
+/* form 0, a tissue in cache, where instructions count: the double
+ * arrays, the junction vectors kept for the gradient pass.  2, a tissue in
+ * memory, where bytes count: the codes, lengths only and the fused
+ * gradient pass.  1: a tissue in memory without the codes (kok = 0),
+ * lengths only.  tens: dg is not NULL (a constant, so that no junction
+ * tests it). */
+static inline __attribute__((always_inline)) double
+energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
+              double *grad, double *g2max, energy_ws *w, const int form, const int tens)
+{
+	const int nj = m->nj;
+	const v2d *r2 = (const v2d *)r;
+	pass_lengths(m, r2, w, 0, nj, form);
+	double W = pass_cells(m, r2, p, w, 0, m->nc, 0.0, form);
+	if (grad == NULL)
+		return W;
+	v2d *g2 = (v2d *)grad;
+	if (form == 2) {
+		double q2 = 0;
+		pass_grad_codes(m, r2, dg, w, g2, 0, nj, g2max, &q2, tens);
+		if (g2max)
+			*g2max = q2;
+		return W;
+	}
+	const int *restrict jc = m->jc;
+	const double *restrict len = w->len;
+	const double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
+	const v2d *restrict vec = (const v2d *)w->vec;
+	for (int v = 0; v < m->nv; v++)
+		g2[v] = (v2d){ 0, 0 };
+	for (int j = 0; j < nj; j++) {
+		int L = jc[2 * j], R = jc[2 * j + 1], a, b;
+		v2d d;
+		if (form == 0) {
+			a = m->jv[2 * j];
+			b = m->jv[2 * j + 1];
+			d = vec[j];
+		} else {
+			d = jvec(m, r2, j, 0, &a, &b);
+		}
+		double t = (pw[L] + pw[R] + (tens ? dg[j] : 0.0)) / len[j];
+		double x = aw[L] - aw[R];
+		v2d perp = (v2d){ x, x } * (v2d){ 0.5, -0.5 } * swap1(d), tan = t * d;
+		g2[a] += perp - tan;
+		g2[b] += perp + tan;
+	}
 	if (g2max)
-		*g2max = q2;
+		*g2max = gmax2(m->nv, g2);
 	return W;
 }
 
