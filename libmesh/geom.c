@@ -217,20 +217,26 @@ static inline v2d sqrt2(v2d x)
 #endif
 }
 
-/* Junction j's vertices and image offset, from the packed codes or from
- * the mesh's own arrays: the same numbers either way. */
-static inline __attribute__((always_inline)) v2d
-jvec(const mesh *m, const v2d *r2, int j, int packed, int *a, int *b)
+/* The pair at byte offset off of base. */
+static inline v2d at(const v2d *base, size_t off)
 {
-	if (packed) {
+	return *(const v2d *)((const char *)base + off);
+}
+
+/* Junction j's vector, from the packed codes (form 2) or from the mesh's
+ * own arrays, its vertices addressed by the byte offsets kjo (form 0)
+ * or by jv: the same numbers either way. */
+static inline __attribute__((always_inline)) v2d
+jvec(const mesh *m, const v2d *r2, int j, int form)
+{
+	if (form == 2) {
 		unsigned u = m->kjv[2 * j];
-		*a = (int)(u & MESH_KMASK);
-		*b = (int)(m->kjv[2 * j + 1] & MESH_KMASK);
-		return r2[*b] - r2[*a] + ((const v2d *)m->kimg)[u >> MESH_KSHIFT];
+		return r2[m->kjv[2 * j + 1] & MESH_KMASK] - r2[u & MESH_KMASK] +
+		       ((const v2d *)m->kimg)[u >> MESH_KSHIFT];
 	}
-	*a = m->jv[2 * j];
-	*b = m->jv[2 * j + 1];
-	return r2[*b] - r2[*a] + ((const v2d *)m->jimg)[j];
+	if (form == 0)
+		return at(r2, m->kjo[2 * j + 1]) - at(r2, m->kjo[2 * j]) + ((const v2d *)m->jimg)[j];
+	return r2[m->jv[2 * j + 1]] - r2[m->jv[2 * j]] + ((const v2d *)m->jimg)[j];
 }
 
 /* Corner i of a cell, relative to its first corner x0. */
@@ -258,27 +264,24 @@ corner(const mesh *m, const v2d *r2, int i, v2d x0, int packed)
  * between passes (the third pass computes the vectors again, from
  * coordinates that the spatial order keeps in cache), and with packed
  * codes (mesh_kernel_build) a corner is 4 bytes and a junction 8. */
-/* Pass 1, junctions j0 <= j < j1: lengths, and for form 0 the vectors. */
+/* Pass 1, junctions j0 <= j < j1: lengths, and in cache the vectors. */
 static inline __attribute__((always_inline)) void
 pass_lengths(const mesh *m, const v2d *r2, energy_ws *w, int j0, int j1, const int form)
 {
-	const int packed = form == 2;
 	double *restrict len = w->len;
 	v2d *restrict vec = (v2d *)w->vec;
 	int j = j0;
 	for (; j + 1 < j1; j += 2) {
-		int a, b;
-		v2d d0 = jvec(m, r2, j, packed, &a, &b), d1 = jvec(m, r2, j + 1, packed, &a, &b);
-		if (form == 0) {
+		v2d d0 = jvec(m, r2, j, form), d1 = jvec(m, r2, j + 1, form);
+		if (form == 0 || form == 3) {
 			vec[j] = d0;
 			vec[j + 1] = d1;
 		}
 		*(v2d *)(len + j) = sqrt2(hsum2(d0 * d0, d1 * d1));
 	}
 	if (j < j1) {
-		int a, b;
-		v2d d = jvec(m, r2, j, packed, &a, &b);
-		if (form == 0)
+		v2d d = jvec(m, r2, j, form);
+		if (form == 0 || form == 3)
 			vec[j] = d;
 		len[j] = sqrt2(hsum2(d * d, d * d))[0];
 	}
@@ -336,8 +339,9 @@ pass_grad_codes(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2
 	const double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
 	double q2 = *q2p;
 	for (int j = j0; j < j1; j++) {
-		int L = jc[2 * j], R = jc[2 * j + 1], a, b;
-		v2d d = jvec(m, r2, j, 1, &a, &b);
+		int L = jc[2 * j], R = jc[2 * j + 1];
+		int a = (int)(kjv[2 * j] & MESH_KMASK), b = (int)(kjv[2 * j + 1] & MESH_KMASK);
+		v2d d = jvec(m, r2, j, 2);
 		long long fl = kjv[2 * j + 1] >> MESH_KSHIFT;
 		double t = (pw[L] + pw[R] + (tens ? dg[j] : 0.0)) / len[j];
 		double x = aw[L] - aw[R];
@@ -360,8 +364,9 @@ pass_grad_codes(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2
 }
 
 /* form 0, a tissue in cache, where instructions count: the double
- * arrays, the junction vectors kept for the gradient pass.  2, a tissue in
- * memory, where bytes count: the codes, lengths only and the fused
+ * arrays, the vertices by their byte offsets kjo, the junction vectors
+ * kept for the gradient pass; 3 the same by jv when kok = 0.  2, a tissue
+ * in memory, where bytes count: the codes, lengths only and the fused
  * gradient pass.  1: a tissue in memory without the codes (kok = 0),
  * lengths only.  tens: dg is not NULL (a constant, so that no junction
  * tests it). */
@@ -390,20 +395,22 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 	for (int v = 0; v < m->nv; v++)
 		g2[v] = (v2d){ 0, 0 };
 	for (int j = 0; j < nj; j++) {
-		int L = jc[2 * j], R = jc[2 * j + 1], a, b;
-		v2d d;
+		int L = jc[2 * j], R = jc[2 * j + 1];
+		size_t oa, ob;
 		if (form == 0) {
-			a = m->jv[2 * j];
-			b = m->jv[2 * j + 1];
-			d = vec[j];
+			oa = m->kjo[2 * j];
+			ob = m->kjo[2 * j + 1];
 		} else {
-			d = jvec(m, r2, j, 0, &a, &b);
+			oa = 16 * (size_t)m->jv[2 * j];
+			ob = 16 * (size_t)m->jv[2 * j + 1];
 		}
+		v2d d = form == 1 ? jvec(m, r2, j, 1) : vec[j];
 		double t = (pw[L] + pw[R] + (tens ? dg[j] : 0.0)) / len[j];
 		double x = aw[L] - aw[R];
 		v2d perp = (v2d){ x, x } * (v2d){ 0.5, -0.5 } * swap1(d), tan = t * d;
-		g2[a] += perp - tan;
-		g2[b] += perp + tan;
+		v2d *ga = (v2d *)((char *)g2 + oa), *gb = (v2d *)((char *)g2 + ob);
+		*ga += perp - tan;
+		*gb += perp + tan;
 	}
 	if (g2max)
 		*g2max = gmax2(m->nv, g2);
@@ -413,13 +420,15 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 double mesh_energy_force(const mesh *m, const double *r, const model *p,
                          const double *dg, double *grad, double *g2max, energy_ws *w)
 {
-	int form = w->vec ? 0 : m->kok ? 2 : 1;
+	int form = w->vec ? (m->kok ? 0 : 3) : m->kok ? 2 : 1;
 	if (dg == NULL)
 		return form == 0 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 0, 0) :
 		       form == 2 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 2, 0) :
+		       form == 3 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 3, 0) :
 		                   energy_kernel(m, r, p, NULL, grad, g2max, w, 1, 0);
 	return form == 0 ? energy_kernel(m, r, p, dg, grad, g2max, w, 0, 1) :
 	       form == 2 ? energy_kernel(m, r, p, dg, grad, g2max, w, 2, 1) :
+	       form == 3 ? energy_kernel(m, r, p, dg, grad, g2max, w, 3, 1) :
 	                   energy_kernel(m, r, p, dg, grad, g2max, w, 1, 1);
 }
 
