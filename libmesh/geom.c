@@ -4,6 +4,9 @@
 
 #include <math.h>
 #include <stdlib.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 model model_from_mesh(const mesh *m)
 {
@@ -63,7 +66,9 @@ struct energy_ws {
 	double *len;  /* per junction: its length */
 	double *vec;  /* 2 per junction: its vector; NULL on a large tissue,
 	                 where the gradient pass computes it again */
-	double *cc;   /* 2 per cell: dW/dA, dW/dP */
+	double *cc;   /* per cell dW/dA, then per cell dW/dP: apart, so that
+	                 the gradient pass indexes them by cell id without a
+	                 shift (2 instructions less per cell it reads) */
 };
 
 energy_ws *energy_ws_alloc(const mesh *m)
@@ -116,13 +121,13 @@ void mesh_junction_vectors(const mesh *m, const double *r, double *jd)
 /* The area is the shoelace sum relative to the first corner; its cross
  * products are accumulated as pairs (sum of x_i y_j and of y_i x_j apart)
  * and subtracted once per cell.  From them and the perimeter: dW/dA and
- * dW/dP into f[0], f[1], and the cell's energy. */
-static inline double cell_factor(v2d acc, double per, double ka, double p0, double *f)
+ * dW/dP into *fa, *fp, and the cell's energy. */
+static inline double cell_factor(v2d acc, double per, double ka, double p0, double *fa, double *fp)
 {
 	double a = 0.5 * (acc[0] - acc[1]);
 	double da = a - 1, dp = per - p0;
-	f[0] = 2 * ka * da;
-	f[1] = 2 * dp;
+	*fa = 2 * ka * da;
+	*fp = 2 * dp;
 	return ka * da * da + dp * dp;
 }
 
@@ -145,7 +150,7 @@ double mesh_cell_factors(const mesh *m, const double *r, const model *p,
 			per += jd[3 * cj[i] + 2];
 			prev = q;
 		}
-		W += cell_factor(acc, per, ka, p0, cc + 2 * k);
+		W += cell_factor(acc, per, ka, p0, cc + 2 * k, cc + 2 * k + 1);
 	}
 	return W;
 }
@@ -155,31 +160,94 @@ const double *energy_ws_lengths(const energy_ws *w)
 	return w->len;
 }
 
-/* The largest |g_v|^2, NaNs passed over (as the dynamics always did). */
-static double gmax2(int nv, const v2d *g)
+/* (p[0] + p[1], q[0] + q[1]) */
+static inline v2d hsum2(v2d p, v2d q)
 {
-	double f2 = 0;
-	for (int v = 0; v < nv; v++) {
-		v2d q = g[v] * g[v];
-		f2 = q[0] + q[1] > f2 ? q[0] + q[1] : f2;
-	}
-	return f2;
+#ifdef __clang__
+	return __builtin_shufflevector(p, q, 0, 2) + __builtin_shufflevector(p, q, 1, 3);
+#else
+	return __builtin_shuffle(p, q, (v2i){ 0, 2 }) + __builtin_shuffle(p, q, (v2i){ 1, 3 });
+#endif
 }
 
-/* Junction j's vertices and image offset, from the packed codes or from
- * the mesh's own arrays: the same numbers either way. */
+/* (y, x) from (x, y) in one instruction: v2d_swap compiles to a copy and
+ * a palignr, pshufd needs no copy (3 instructions less per vertex). */
+static inline v2d swap1(v2d a)
+{
+#ifdef __SSE2__
+	return (v2d)_mm_shuffle_epi32((__m128i)a, 0x4e);
+#else
+	return v2d_swap(a);
+#endif
+}
+
+/* The largest |g_v|^2, NaNs passed over (as the dynamics always did): two
+ * vertices at a time, each lane a maximum of its own (exact, so the two
+ * combine to the same number in any order). */
+static double gmax2(int nv, const v2d *g)
+{
+	v2d f2 = { 0, 0 };
+	int v = 0;
+	for (; v + 1 < nv; v += 2) {
+		v2d q = hsum2(g[v] * g[v], g[v + 1] * g[v + 1]);
+#ifdef __SSE2__
+		f2 = (v2d)_mm_max_pd((__m128d)q, (__m128d)f2);   /* q > f2 ? q : f2 */
+#else
+		f2 = (v2d){ q[0] > f2[0] ? q[0] : f2[0], q[1] > f2[1] ? q[1] : f2[1] };
+#endif
+	}
+	double m = f2[1] > f2[0] ? f2[1] : f2[0];
+	if (v < nv) {
+		v2d q = g[v] * g[v];
+		m = q[0] + q[1] > m ? q[0] + q[1] : m;
+	}
+	return m;
+}
+
+/* sqrt without the errno test that <math.h>'s sqrt carries (its operand,
+ * a sum of squares, is never negative): 2 instructions less per junction.
+ * Two junctions' square roots as one instruction: the same correctly
+ * rounded operation in each lane, at the cost of one. */
+static inline v2d sqrt2(v2d x)
+{
+#ifdef __SSE2__
+	return (v2d)_mm_sqrt_pd((__m128d)x);
+#else
+	return (v2d){ sqrt(x[0]), sqrt(x[1]) };
+#endif
+}
+
+/* The pair at byte offset off of base. */
+static inline v2d at(const v2d *base, size_t off)
+{
+	return *(const v2d *)((const char *)base + off);
+}
+
+/* Junction j's vector, from the packed codes (form 2) or from the mesh's
+ * own arrays, its vertices addressed by the byte offsets kjo (form 0)
+ * or by jv: the same numbers either way. */
 static inline __attribute__((always_inline)) v2d
-jvec(const mesh *m, const v2d *r2, int j, int packed, int *a, int *b)
+jvec(const mesh *m, const v2d *r2, int j, int form)
+{
+	if (form == 2) {
+		unsigned u = m->kjv[2 * j];
+		return r2[m->kjv[2 * j + 1] & MESH_KMASK] - r2[u & MESH_KMASK] +
+		       ((const v2d *)m->kimg)[u >> MESH_KSHIFT];
+	}
+	if (form == 0)
+		return at(r2, m->kjo[2 * j + 1]) - at(r2, m->kjo[2 * j]) + ((const v2d *)m->jimg)[j];
+	return r2[m->jv[2 * j + 1]] - r2[m->jv[2 * j]] + ((const v2d *)m->jimg)[j];
+}
+
+/* Corner i of a cell, relative to its first corner x0. */
+static inline __attribute__((always_inline)) v2d
+corner(const mesh *m, const v2d *r2, int i, v2d x0, int packed)
 {
 	if (packed) {
-		unsigned u = m->kjv[2 * j];
-		*a = (int)(u & MESH_KMASK);
-		*b = (int)(m->kjv[2 * j + 1] & MESH_KMASK);
-		return r2[*b] - r2[*a] + ((const v2d *)m->kimg)[u >> MESH_KSHIFT];
+		unsigned u = m->kcv[i];
+		return r2[u & MESH_KMASK] + ((const v2d *)m->kimg)[u >> MESH_KSHIFT] - x0;
 	}
-	*a = m->jv[2 * j];
-	*b = m->jv[2 * j + 1];
-	return r2[*b] - r2[*a] + ((const v2d *)m->jimg)[j];
+	return r2[m->cv[i]] + ((const v2d *)m->cimg)[i] - x0;
 }
 
 /* Three passes keep every loop simple enough to pipeline: junction
@@ -196,95 +264,88 @@ jvec(const mesh *m, const v2d *r2, int j, int packed, int *a, int *b)
  * between passes (the third pass computes the vectors again, from
  * coordinates that the spatial order keeps in cache), and with packed
  * codes (mesh_kernel_build) a corner is 4 bytes and a junction 8. */
-/* form 0, a tissue in cache, where instructions count: the double
- * arrays, the junction vectors kept for the gradient pass.  2, a tissue in
- * memory, where bytes count: the codes, lengths only and the fused
- * gradient pass below.  1: form 2 without the codes (kok = 0). */
+/* Pass 1, junctions j0 <= j < j1: lengths, and in cache the vectors. */
+static inline __attribute__((always_inline)) void
+pass_lengths(const mesh *m, const v2d *r2, energy_ws *w, int j0, int j1, const int form)
+{
+	double *restrict len = w->len;
+	v2d *restrict vec = (v2d *)w->vec;
+	int j = j0;
+	for (; j + 1 < j1; j += 2) {
+		v2d d0 = jvec(m, r2, j, form), d1 = jvec(m, r2, j + 1, form);
+		if (form == 0 || form == 3) {
+			vec[j] = d0;
+			vec[j + 1] = d1;
+		}
+		*(v2d *)(len + j) = sqrt2(hsum2(d0 * d0, d1 * d1));
+	}
+	if (j < j1) {
+		v2d d = jvec(m, r2, j, form);
+		if (form == 0 || form == 3)
+			vec[j] = d;
+		len[j] = sqrt2(hsum2(d * d, d * d))[0];
+	}
+}
+
+/* Pass 2, cells k0 <= k < k1: dW/dA and dW/dP into cc, their energies
+ * added to W in cell order.  Two corners per iteration: no copy of the
+ * previous corner, half the loop tests. */
 static inline __attribute__((always_inline)) double
-energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
-              double *grad, double *g2max, energy_ws *w, const int form)
+pass_cells(const mesh *m, const v2d *r2, const model *p, energy_ws *w, int k0, int k1,
+           double W, const int form)
 {
 	const int packed = form == 2;
-	const int nj = m->nj, nc = m->nc;
-	const v2d *r2 = (const v2d *)r;
-	double *restrict len = w->len, *restrict cc = w->cc;
-	v2d *restrict vec = (v2d *)w->vec;
-	for (int j = 0; j < nj; j++) {
-		int a, b;
-		v2d d = jvec(m, r2, j, packed, &a, &b), q = d * d;
-		if (form == 0)
-			vec[j] = d;
-		len[j] = sqrt(q[0] + q[1]);
-	}
-
-	const int *restrict coff = m->coff, *restrict cv = m->cv, *restrict cj = m->cj;
-	const unsigned *restrict kcv = m->kcv;
-	const v2d *restrict cimg = (const v2d *)m->cimg, *restrict kimg = (const v2d *)m->kimg;
+	const int *restrict coff = m->coff, *restrict cj = m->cj;
+	const double *restrict len = w->len;
+	double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
 	const double ka = p->ka, p0 = p->p0;
-	double W = 0;
-	for (int k = 0; k < nc; k++) {
-		int s = coff[k], e = coff[k + 1];
-		v2d x0 = r2[packed ? (int)(kcv[s] & MESH_KMASK) : cv[s]], acc = { 0, 0 }, prev = { 0, 0 };
+	for (int k = k0; k < k1; k++) {
+		int s = coff[k], e = coff[k + 1], i = s + 1;
+		v2d x0 = r2[packed ? (int)(m->kcv[s] & MESH_KMASK) : m->cv[s]], acc = { 0, 0 }, prev = { 0, 0 };
 		double per = len[cj[s]];
-		for (int i = s + 1; i < e; i++) {
-			v2d q;
-			if (packed) {
-				unsigned u = kcv[i];
-				q = r2[u & MESH_KMASK] + kimg[u >> MESH_KSHIFT] - x0;
-			} else {
-				q = r2[cv[i]] + cimg[i] - x0;
-			}
-			acc += prev * v2d_swap(q);
+		for (; i + 1 < e; i += 2) {
+			v2d q = corner(m, r2, i, x0, packed);
+			acc += prev * swap1(q);
 			per += len[cj[i]];
-			prev = q;
+			prev = corner(m, r2, i + 1, x0, packed);
+			acc += q * swap1(prev);
+			per += len[cj[i + 1]];
 		}
-		W += cell_factor(acc, per, ka, p0, cc + 2 * k);
+		if (i < e) {
+			v2d q = corner(m, r2, i, x0, packed);
+			acc += prev * swap1(q);
+			per += len[cj[i]];
+		}
+		W += cell_factor(acc, per, ka, p0, aw + k, pw + k);
 	}
-	if (grad == NULL)
-		return W;
+	return W;
+}
 
-	v2d *g2 = (v2d *)grad;
+/* Pass 3 of a tissue in memory, junctions j0 <= j < j1, with the codes: a
+ * vertex's sum starts at its first junction (0 + term, the same number
+ * as adding to a zeroed array) and is complete at its last, where its
+ * square enters the maximum *q2 (if g2max): no pass to zero the gradient
+ * and none to find the largest force, 48 bytes per vertex less from
+ * memory, for about 10 instructions more per junction, which in cache
+ * cost more than they save.  Masks instead of branches, as first and last
+ * follow no pattern the branch predictor learns. */
+static inline __attribute__((always_inline)) void
+pass_grad_codes(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2d *g2,
+                int j0, int j1, double *g2max, double *q2p, const int tens)
+{
 	const int *restrict jc = m->jc;
-	if (form < 2) {
-		for (int v = 0; v < m->nv; v++)
-			g2[v] = (v2d){ 0, 0 };
-		for (int j = 0; j < nj; j++) {
-			int L = jc[2 * j], R = jc[2 * j + 1], a, b;
-			v2d d;
-			if (form == 0) {
-				a = m->jv[2 * j];
-				b = m->jv[2 * j + 1];
-				d = vec[j];
-			} else {
-				d = jvec(m, r2, j, 0, &a, &b);
-			}
-			double t = (cc[2 * L + 1] + cc[2 * R + 1] + (dg ? dg[j] : 0.0)) / len[j];
-			double h = 0.5 * (cc[2 * L] - cc[2 * R]);
-			v2d perp = (v2d){ h, -h } * v2d_swap(d), tan = t * d;
-			g2[a] += perp - tan;
-			g2[b] += perp + tan;
-		}
-		if (g2max)
-			*g2max = gmax2(m->nv, g2);
-		return W;
-	}
-	/* A tissue larger than the caches: a vertex's sum starts at its first
-	 * junction (0 + term, the same number as adding to a zeroed array)
-	 * and is complete at its last, where its square enters the maximum:
-	 * no pass to zero the gradient and none to find the largest force,
-	 * 48 bytes per vertex less from memory, for about 10 instructions
-	 * more per junction, which in cache cost more than they save.
-	 * Masks instead of branches, as first and last follow no pattern
-	 * the branch predictor learns. */
 	const unsigned *restrict kjv = m->kjv;
-	double q2 = 0;
-	for (int j = 0; j < nj; j++) {
-		int L = jc[2 * j], R = jc[2 * j + 1], a, b;
-		v2d d = jvec(m, r2, j, 1, &a, &b);
+	const double *restrict len = w->len;
+	const double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
+	double q2 = *q2p;
+	for (int j = j0; j < j1; j++) {
+		int L = jc[2 * j], R = jc[2 * j + 1];
+		int a = (int)(kjv[2 * j] & MESH_KMASK), b = (int)(kjv[2 * j + 1] & MESH_KMASK);
+		v2d d = jvec(m, r2, j, 2);
 		long long fl = kjv[2 * j + 1] >> MESH_KSHIFT;
-		double t = (cc[2 * L + 1] + cc[2 * R + 1] + (dg ? dg[j] : 0.0)) / len[j];
-		double h = 0.5 * (cc[2 * L] - cc[2 * R]);
-		v2d perp = (v2d){ h, -h } * v2d_swap(d), tan = t * d;
+		double t = (pw[L] + pw[R] + (tens ? dg[j] : 0.0)) / len[j];
+		double x = aw[L] - aw[R];
+		v2d perp = (v2d){ x, x } * (v2d){ 0.5, -0.5 } * swap1(d), tan = t * d;
 		v2i keep_a = (v2i){ 0, 0 } - ((fl & MESH_KFIRST_A) == 0);
 		v2d ga = (v2d)((v2i)g2[a] & keep_a) + (perp - tan);
 		g2[a] = ga;
@@ -299,19 +360,76 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			q2 = sb > q2 ? sb : q2;
 		}
 	}
+	*q2p = q2;
+}
+
+/* form 0, a tissue in cache, where instructions count: the double
+ * arrays, the vertices by their byte offsets kjo, the junction vectors
+ * kept for the gradient pass; 3 the same by jv when kok = 0.  2, a tissue
+ * in memory, where bytes count: the codes, lengths only and the fused
+ * gradient pass.  1: a tissue in memory without the codes (kok = 0),
+ * lengths only.  tens: dg is not NULL (a constant, so that no junction
+ * tests it). */
+static inline __attribute__((always_inline)) double
+energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
+              double *grad, double *g2max, energy_ws *w, const int form, const int tens)
+{
+	const int nj = m->nj;
+	const v2d *r2 = (const v2d *)r;
+	pass_lengths(m, r2, w, 0, nj, form);
+	double W = pass_cells(m, r2, p, w, 0, m->nc, 0.0, form);
+	if (grad == NULL)
+		return W;
+	v2d *g2 = (v2d *)grad;
+	if (form == 2) {
+		double q2 = 0;
+		pass_grad_codes(m, r2, dg, w, g2, 0, nj, g2max, &q2, tens);
+		if (g2max)
+			*g2max = q2;
+		return W;
+	}
+	const int *restrict jc = m->jc;
+	const double *restrict len = w->len;
+	const double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
+	const v2d *restrict vec = (const v2d *)w->vec;
+	for (int v = 0; v < m->nv; v++)
+		g2[v] = (v2d){ 0, 0 };
+	for (int j = 0; j < nj; j++) {
+		int L = jc[2 * j], R = jc[2 * j + 1];
+		size_t oa, ob;
+		if (form == 0) {
+			oa = m->kjo[2 * j];
+			ob = m->kjo[2 * j + 1];
+		} else {
+			oa = 16 * (size_t)m->jv[2 * j];
+			ob = 16 * (size_t)m->jv[2 * j + 1];
+		}
+		v2d d = form == 1 ? jvec(m, r2, j, 1) : vec[j];
+		double t = (pw[L] + pw[R] + (tens ? dg[j] : 0.0)) / len[j];
+		double x = aw[L] - aw[R];
+		v2d perp = (v2d){ x, x } * (v2d){ 0.5, -0.5 } * swap1(d), tan = t * d;
+		v2d *ga = (v2d *)((char *)g2 + oa), *gb = (v2d *)((char *)g2 + ob);
+		*ga += perp - tan;
+		*gb += perp + tan;
+	}
 	if (g2max)
-		*g2max = q2;
+		*g2max = gmax2(m->nv, g2);
 	return W;
 }
 
 double mesh_energy_force(const mesh *m, const double *r, const model *p,
                          const double *dg, double *grad, double *g2max, energy_ws *w)
 {
-	if (w->vec)
-		return energy_kernel(m, r, p, dg, grad, g2max, w, 0);
-	if (m->kok)
-		return energy_kernel(m, r, p, dg, grad, g2max, w, 2);
-	return energy_kernel(m, r, p, dg, grad, g2max, w, 1);
+	int form = w->vec ? (m->kok ? 0 : 3) : m->kok ? 2 : 1;
+	if (dg == NULL)
+		return form == 0 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 0, 0) :
+		       form == 2 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 2, 0) :
+		       form == 3 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 3, 0) :
+		                   energy_kernel(m, r, p, NULL, grad, g2max, w, 1, 0);
+	return form == 0 ? energy_kernel(m, r, p, dg, grad, g2max, w, 0, 1) :
+	       form == 2 ? energy_kernel(m, r, p, dg, grad, g2max, w, 2, 1) :
+	       form == 3 ? energy_kernel(m, r, p, dg, grad, g2max, w, 3, 1) :
+	                   energy_kernel(m, r, p, dg, grad, g2max, w, 1, 1);
 }
 
 double mesh_energy_tension(const mesh *m, const double *r, const model *p,

@@ -36,9 +36,10 @@ static void free_derived(mesh *m)
 	free(m->jimg);
 	free(m->kcv);
 	free(m->kjv);
+	free(m->kjo);
 	m->cimg = m->jimg = NULL;
 	m->cj = m->jv = m->jc = NULL;
-	m->kcv = m->kjv = NULL;
+	m->kcv = m->kjv = m->kjo = NULL;
 	m->kok = 0;
 	m->nj = 0;
 }
@@ -83,6 +84,8 @@ static int kcode_junction(mesh *m, int j)
 			fl &= ~((unsigned)(MESH_KFIRST_A | MESH_KLAST_A) << e);
 	m->kjv[2 * j] = (unsigned)m->jv[2 * j] | (unsigned)(c < 0 ? 0 : c) << MESH_KSHIFT;
 	m->kjv[2 * j + 1] = (unsigned)m->jv[2 * j + 1] | fl << MESH_KSHIFT;
+	m->kjo[2 * j] = 16u * (unsigned)m->jv[2 * j];
+	m->kjo[2 * j + 1] = 16u * (unsigned)m->jv[2 * j + 1];
 	return c >= 0;
 }
 
@@ -136,11 +139,13 @@ void mesh_kernel_build(mesh *m)
 	size_t nk = (size_t)m->coff[m->nc], nj = (size_t)m->nj;
 	free(m->kcv);
 	free(m->kjv);
+	free(m->kjo);
 	m->kcv = malloc((nk ? nk : 1) * sizeof *m->kcv);
 	m->kjv = calloc(2 * (nj ? nj : 1), sizeof *m->kjv);
+	m->kjo = malloc(2 * (nj ? nj : 1) * sizeof *m->kjo);
 	unsigned char *seen = calloc((size_t)m->nv + 1, 1);
 	m->nkx = m->nky = 0;
-	m->kok = m->kcv && m->kjv && seen && m->cimg && m->jimg && (unsigned)m->nv <= MESH_KMASK + 1u;
+	m->kok = m->kcv && m->kjv && m->kjo && seen && m->cimg && m->jimg && (unsigned)m->nv <= MESH_KMASK + 1u;
 	for (size_t i = 0; i < 2 * nj && m->kok; i++)
 		m->kjv[i] = (unsigned)m->jv[i];
 	for (size_t j = 0; j < nj && m->kok; j++)
@@ -225,7 +230,8 @@ mesh *mesh_copy(const mesh *m)
 	 * arrays themselves */
 	c->kcv = dup_array(m->kok ? m->kcv : NULL, nk, sizeof *m->kcv);
 	c->kjv = dup_array(m->kok ? m->kjv : NULL, 2 * (size_t)m->nj, sizeof *m->kjv);
-	c->kok = c->kcv && c->kjv;
+	c->kjo = dup_array(m->kok ? m->kjo : NULL, 2 * (size_t)m->nj, sizeof *m->kjo);
+	c->kok = c->kcv && c->kjv && c->kjo;
 	c->param = dup_array(m->param, m->nparam, sizeof *m->param);
 	c->hist = calloc(m->nhist ? m->nhist : 1, sizeof *c->hist);
 	c->nhist = 0;

@@ -49,9 +49,10 @@ static double fd_error(const mesh *m, const model *p, double h)
 	return emax;
 }
 
-/* The packed kernel (mesh_kernel_build) against the same mesh read from
- * its double arrays (kok = 0): energy, gradient and largest force bit
- * for bit, with and without tensions. */
+/* The kernel on its derived arrays (mesh_kernel_build: the codes out of
+ * cache, the vertex byte offsets kjo in cache) against the same mesh read
+ * from its double arrays (kok = 0): energy, gradient and largest force
+ * bit for bit, with and without tensions. */
 static int packed_same(const mesh *m, const model *p, const double *dg)
 {
 	mesh *u = mesh_copy(m);
