@@ -50,15 +50,22 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 		return MESH_ENOMEM;
 	}
 	memcpy(r0, m->r, nr * sizeof *r0);
-	for (int j = 0; j < nj; j++)
+	double q0min = INFINITY;
+	for (int j = 0; j < nj; j++) {
 		q0[3 * j] = jvec(m, r0, j, q0 + 3 * j + 1, q0 + 3 * j + 2);
+		q0min = fmin(q0min, q0[3 * j]);
+	}
+	/* an error of the order of a junction's length would get its
+	 * direction of motion wrong (a junction just made by a T1 is 1e-3
+	 * long, and stepping flips it back if it shrinks) */
+	const double tol = fmin(o->tol, GF_LFRAC * sqrt(q0min));
 	const double lev2 = o->lev * o->lev, lo2 = (1 - GF_WINDOW) * (1 - GF_WINDOW);
 	double gmax = grad_max_norm(nv, g);
 	double hh = fmin(*h, o->hmax), hcross = INFINITY;
 	int st = MESH_ENOCONV;
 	while (rep->nsolve < GF_TRIES && hh > 0) {
 		rep->nsolve++;
-		int sst = solve(m, p, hh, o->tol, gmax);
+		int sst = solve(m, p, hh, tol, gmax);
 		if (sst == MESH_ENOMEM) {
 			st = sst;
 			break;
@@ -79,10 +86,10 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 			d2 = fmax(d2, dx * dx + dy * dy);
 		}
 		double err = 0.5 * sqrt(e2);
-		if (!(err <= o->tol)) {
+		if (!(err <= tol)) {
 			memcpy(m->r, r0, nr * sizeof *r0);
 			rep->nreject++;
-			hh *= isfinite(err) ? clamp(0.9 * sqrt(o->tol / err), 0.1, 0.5) : 0.1;
+			hh *= isfinite(err) ? clamp(0.9 * sqrt(tol / err), 0.1, 0.5) : 0.1;
 			continue;
 		}
 		/* events: the first junction to reach its event length e, by
@@ -130,7 +137,7 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 		rep->event = jev >= 0;
 		/* the next step: by the error, and no further than a crossing
 		 * seen in this call (the secant will be tried again from here) */
-		double grow = err > 0 ? clamp(0.9 * sqrt(o->tol / err), 0.2, 4) : 4;
+		double grow = err > 0 ? clamp(0.9 * sqrt(tol / err), 0.2, 4) : 4;
 		*h = fmin(hh * grow, hcross - hh < INFINITY ? fmax(hcross - hh, 1e-3 * hh) : INFINITY);
 		st = MESH_OK;
 		break;

@@ -19,6 +19,10 @@
  * r_n - h grad W(r_n) (each differs from the exact flow by about
  * h^2/2 |r''|, with opposite signs); a step is accepted when that is at
  * most tol, and the next step is h 0.9 sqrt(tol/err), within [0.2 h, 4 h].
+ * The tolerance is at most GF_LFRAC times the shortest junction at the
+ * start of the step: an error of the order of a junction's length gets
+ * its motion wrong, and the junction a T1 makes (1e-3 long) is flipped
+ * back if it shrinks.
  *
  * Events: the caller flips a junction that is below the threshold lev and
  * shorter than at the previous step (the T1 rule of dynamics.h).  A step
@@ -40,6 +44,7 @@
 
 #define GF_WINDOW 1e-3   /* relative: where an event step lands below e */
 #define GF_TRIES 40      /* solves per step at most */
+#define GF_LFRAC 0.1     /* tolerance at most this times the shortest junction */
 
 typedef struct {
 	double tol;    /* local error per step, a length (> 0) */
