@@ -20,64 +20,12 @@
 #include "gradflow.h"
 #include "lattice.h"
 #include "tap.h"
+#include "quench_util.h"
 
-/* A melted n x n tissue (noise 0.5 for 20 time units, T1 threshold t1),
- * as tests/settle.c makes it. */
-static mesh *melted(int n, unsigned long seed, double t1)
-{
-	mesh *m;
-	mesh_error err;
-	if (lattice_honeycomb(n, n, &m, &err) != MESH_OK || mesh_param_set(m, "p0", 3.65) != MESH_OK)
-		return NULL;
-	model p = model_from_mesh(m);
-	dyn_opts o;
-	dyn_opts_init(&o);
-	o.sigma = 0.5;
-	o.t1_length = t1;
-	dyn *d;
-	if (dyn_alloc(m, &p, &o, seed, &d, &err) != MESH_OK || dyn_run(d, 20, NULL, NULL, NULL, &err) != MESH_OK) {
-		diag("melting: %s", err.msg);
-		mesh_free(m);
-		return NULL;
-	}
-	dyn_free(d);
-	return m;
-}
-
-/* Quench m with sigma 0 for 800 time units: settle at 1e-2, implicit
- * tolerance tol (0: off) or, with settle 0, every step. */
+/* Quench m for 800 time units (quench_util.h). */
 static int quench(mesh *m, double t1, double settle, double tol, dyn_counts *c)
 {
-	model p = model_from_mesh(m);
-	dyn_opts o;
-	dyn_opts_init(&o);
-	o.settle = settle;
-	o.implicit = tol;
-	o.t1_length = t1;
-	dyn *d;
-	mesh_error err;
-	int st = dyn_alloc(m, &p, &o, 1, &d, &err);
-	if (st != MESH_OK)
-		return st;
-	st = dyn_run(d, 800, NULL, NULL, NULL, &err);
-	if (st != MESH_OK)
-		diag("quench: %s", err.msg);
-	dyn_counts_get(d, c);
-	dyn_free(d);
-	return st;
-}
-
-/* Largest vertex distance by minimum image (same vertex numbering). */
-static double max_shift(const mesh *a, const mesh *b)
-{
-	double mx = 0;
-	for (int v = 0; v < a->nv; v++) {
-		double dx = b->r[2 * v] - a->r[2 * v], dy = b->r[2 * v + 1] - a->r[2 * v + 1];
-		dx -= a->lx * nearbyint(dx / a->lx);
-		dy -= a->ly * nearbyint(dy / a->ly);
-		mx = fmax(mx, hypot(dx, dy));
-	}
-	return mx;
+	return quench_tol(m, 800, settle, t1, tol, c);
 }
 
 /* Each cell as text, its vertex cycle started at its smallest id, the
@@ -127,7 +75,7 @@ static int same_cells(const mesh *a, const mesh *b)
  * the implicit one replaces (settling tried at the same forces). */
 static void against(int n, unsigned long seed, double t1, double tol, double settle)
 {
-	mesh *a = melted(n, seed, t1), *b = melted(n, seed, t1);
+	mesh *a = melted_n(n, seed, t1), *b = melted_n(n, seed, t1);
 	dyn_counts ca, cb;
 	int sa = a ? quench(a, t1, settle, 0, &ca) : -1;
 	int sb = b ? quench(b, t1, 1e-2, tol, &cb) : -1;
@@ -159,7 +107,7 @@ static void against(int n, unsigned long seed, double t1, double tol, double set
  * the tolerance. */
 static void one_step(double tol)
 {
-	mesh *m = melted(8, 3, 0.01);
+	mesh *m = melted_n(8, 3, 0.01);
 	model p = model_from_mesh(m);
 	dyn_opts o;
 	dyn_opts_init(&o);
@@ -223,7 +171,7 @@ static char *text(const mesh *m, size_t *n)
  * written mesh and its state lines), continued, against no stop. */
 static void resume(int n, unsigned long seed, double t1, const long *stops, int nstop)
 {
-	mesh *a = melted(n, seed, t1);
+	mesh *a = melted_n(n, seed, t1);
 	mesh *b = mesh_copy(a);
 	dyn_counts ca, cb;
 	int st = quench(a, t1, 1e-2, 1e-3, &ca);
