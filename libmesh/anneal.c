@@ -30,9 +30,13 @@ void anneal_protocol(const anneal_opts *o, char *buf, size_t n)
 	int len = snprintf(buf, n, "stages");
 	for (int i = 0; i < o->nstage; i++)
 		len += snprintf(buf + len, n - len, " %.17g:%.17g", o->sig[i], o->dur[i]);
-	snprintf(buf + len, n - len, " relax %.17g tau %.17g seed %lu dt %.17g dr %.17g ou_dt %.17g "
-	         "settle %.17g t1 %.17g t1_new %.17g", o->relax, o->d.tau, o->seed, o->d.dt_max,
-	         o->d.dr_max, o->d.ou_dt, o->d.settle, o->d.t1_length, o->d.t1_new);
+	len += snprintf(buf + len, n - len, " relax %.17g tau %.17g seed %lu dt %.17g dr %.17g "
+	                "ou_dt %.17g settle %.17g t1 %.17g t1_new %.17g", o->relax, o->d.tau,
+	                o->seed, o->d.dt_max, o->d.dr_max, o->d.ou_dt, o->d.settle,
+	                o->d.t1_length, o->d.t1_new);
+	/* only when on: the text of a run without it stays as it was */
+	if (o->d.implicit > 0)
+		snprintf(buf + len, n - len, " implicit %.17g", o->d.implicit);
 }
 
 int anneal_resume(mesh *m, const anneal_opts *o, int *continued, mesh_error *err)
@@ -221,6 +225,10 @@ int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *
 		ADD("; %ld sigma=0 stages finished by Newton minimization at fixed topology once max "
 		    "force and tension <= %g (settle), covering %.10g time units", c->nsettle,
 		    o->d.settle, c->t_settled);
+	if (c->nimpl > 0 || c->nimpl_fail > 0)
+		ADD("; %ld implicit steps (local error <= %g, %ld solves, %ld landed on a T1, %ld "
+		    "taken explicitly) covering %.10g time units", c->nimpl, o->d.implicit, c->nsolve,
+		    c->nevent, c->nimpl_fail, c->t_implicit);
 	if (r->continued)
 		ADD("; continued from t %.10g", r->c0.t);
 	if (why)

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gradflow.h"
 #include "invariants.h"
 #include "minimize.h"
 #include "noise.h"
@@ -56,6 +57,11 @@ struct dyn {
 	 * that a continued run tries to settle where the first would have
 	 * (fsettle_next >= 0: use it at the next run that takes a step) */
 	double fsettle, fsettle_next;
+	/* implicit mode (dyn_opts.implicit): on after a refused settling
+	 * until the stage ends; h is the next step to try (0: start afresh,
+	 * from the force) */
+	int impl;
+	double h;
 	dyn_counts c;
 	dyn_t1_hook t1_hook;
 	void *t1_data;
@@ -67,7 +73,7 @@ void dyn_opts_init(dyn_opts *o)
 	*o = (dyn_opts){ .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0.01,
 			 .t1_new = 1e-3, .tau = 1, .sigma = 0, .mode = DYN_OU,
 			 .gamma0 = 0, .l_stop = 1e-6, .ou_dt = 0, .settle = 0,
-			 .t1_again = 0, .split = 0 };
+			 .t1_again = 0, .split = 0, .implicit = 0 };
 }
 
 static int check_opts(const dyn_opts *o, mesh_error *err)
@@ -85,6 +91,8 @@ static int check_opts(const dyn_opts *o, mesh_error *err)
 		return mesh_error_set(err, 0, MESH_EDOM, "ou_dt must be non-negative");
 	if (!(o->settle >= 0 && isfinite(o->settle)))
 		return mesh_error_set(err, 0, MESH_EDOM, "settle must be non-negative");
+	if (!(o->implicit >= 0 && isfinite(o->implicit)))
+		return mesh_error_set(err, 0, MESH_EDOM, "implicit must be non-negative");
 	if (!(o->tau > 0 && isfinite(o->tau)) || !(o->sigma >= 0 && isfinite(o->sigma)) ||
 	    !isfinite(o->gamma0))
 		return mesh_error_set(err, 0, MESH_EDOM, "tau must be positive, sigma non-negative");
@@ -461,6 +469,38 @@ static double trial_lmax(const dyn *d, const double *f, double dt, int *jlong)
 	return sqrt(l2max);
 }
 
+/* One implicit step (gradflow.h) from the coordinates whose gradient is
+ * in d->f: 1 taken (time, counts and displacement bounds updated), 0 not
+ * (no step size accepted: the caller steps explicitly), or minus a status
+ * (err set). */
+static int implicit_step(dyn *d, double t_end, double fmax, double lhalf, mesh_error *err)
+{
+	const dyn_opts *o = &d->o;
+	gf_opts go = { .tol = o->implicit, .lev = o->t1_length > 0 ? o->t1_length : o->l_stop,
+		       .hmax = t_end - d->c.t, .lhalf = lhalf };
+	if (!(d->h > 0))
+		d->h = fmax > 0 ? o->implicit / fmax : go.hmax;
+	gf_report gr;
+	int st = gf_step(d->m, &d->p, d->f, &go, &d->h, &gr);
+	d->c.nsolve += gr.nsolve;
+	if (st == MESH_ENOMEM)
+		return -mesh_error_set(err, 0, st, "out of memory");
+	if (st != MESH_OK) {
+		d->c.nimpl_fail++;
+		d->h = 0;
+		return 0;
+	}
+	d->lmax = gr.lmax;
+	d->ldisp = 0;
+	d->lmax_ok = 1;
+	d->disp += gr.dmax;
+	d->c.nimpl++;
+	d->c.nevent += gr.event;
+	d->c.t_implicit += gr.taken;
+	d->c.t = gr.taken >= go.hmax ? t_end : d->c.t + gr.taken;
+	return 1;
+}
+
 int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
             dyn_observer obs, void *data, mesh_error *err)
 {
@@ -486,6 +526,8 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 	if (d->fsettle_next >= 0 && d->c.t < t_end) {
 		fsettle = d->fsettle_next;
 		d->fsettle_next = -1;
+	} else if (d->fsettle_next < 0) {
+		d->impl = 0;   /* a new stage (not one continued from its state) */
 	}
 	/* a little short of half the box, so that the wrapped coordinates a
 	 * writer puts out still pass the reader's test */
@@ -506,8 +548,10 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 					return st;
 				/* a settling refused for a junction that would
 				 * have collapsed may succeed once it has flipped */
-				if (d->c.nt1 > nt1 && fsettle > 0)
+				if (d->c.nt1 > nt1 && fsettle > 0) {
 					fsettle = o.settle;
+					d->h = 0;   /* the forces jumped */
+				}
 				/* a T1 moves its two vertices by at most half the
 				 * old length plus half the new: the bound on the
 				 * junctions' growth takes that instead of every
@@ -552,8 +596,29 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				break;
 			}
 			fsettle *= 0.01;
+			if (o.implicit > 0 && !d->impl) {
+				/* the rest of the stage implicitly; the tensions
+				 * dropped as settling drops them */
+				d->impl = 1;
+				d->h = 0;
+				free(m->dg);
+				m->dg = NULL;
+			}
 		}
 		d->fsettle = fsettle;
+		if (d->impl && fsettle > 0) {
+			int taken = implicit_step(d, t_end, fmax, lhalf, err);
+			if (taken < 0)
+				return -taken;
+			if (taken) {
+				if (t1on)
+					for (int k = 0; k < d->ncand; k++)
+						d->lprev[d->cand[k]] = d->l2[d->cand[k]];
+				if (obs && obs(d, data))
+					break;
+				continue;
+			}
+		}
 		double dt = o.dt_max;
 		if (fmax * dt > o.dr_max)
 			dt = o.dr_max / fmax;
@@ -708,6 +773,9 @@ int dyn_state_save(const dyn *d)
 	sb_printf(&b, "%a %ld %ld %ld %ld %a %ld %a %a %d", d->c.t, d->c.nstep, d->c.nt1,
 	          d->c.nt1_refused, d->c.nsettle, d->c.t_settled, d->nt1_sorted, d->ou_acc,
 	          d->fsettle, d->have_lprev);
+	if (d->o.implicit > 0 || d->impl)
+		sb_printf(&b, " %d %a %ld %ld %ld %ld %a", d->impl, d->h, d->c.nimpl, d->c.nsolve,
+		          d->c.nevent, d->c.nimpl_fail, d->c.t_implicit);
 	if ((st = sb_set(m, "dyn_run", &b)) != MESH_OK)
 		return st;
 	if (d->noise) {
@@ -871,10 +939,16 @@ int dyn_state_load(dyn *d, mesh_error *err)
 	dyn_counts c = { 0 };
 	long sorted;
 	double acc, fs;
-	int hl, used = 0;
+	int hl, used = 0, impl = 0, u2 = 0;
+	double h = 0;
 	if (sscanf(run, "%la %ld %ld %ld %ld %la %ld %la %la %d%n", &c.t, &c.nstep, &c.nt1,
 	           &c.nt1_refused, &c.nsettle, &c.t_settled, &sorted, &acc, &fs, &hl, &used) != 10 ||
-	    run[used] != '\0' || !isfinite(c.t) || !(c.t >= 0) || !isfinite(acc) || !isfinite(fs))
+	    !isfinite(c.t) || !(c.t >= 0) || !isfinite(acc) || !isfinite(fs))
+		return bad(err, "dyn_run");
+	if (run[used] != '\0' &&
+	    (sscanf(run + used, " %d %la %ld %ld %ld %ld %la%n", &impl, &h, &c.nimpl, &c.nsolve,
+	            &c.nevent, &c.nimpl_fail, &c.t_implicit, &u2) != 7 ||
+	     run[used + u2] != '\0' || !(h >= 0 && isfinite(h)) || !isfinite(c.t_implicit)))
 		return bad(err, "dyn_run");
 	const char *rng = mesh_state_get(m, "dyn_rng");
 	if (rng) {
@@ -898,6 +972,8 @@ int dyn_state_load(dyn *d, mesh_error *err)
 	d->ou_acc = acc;
 	d->fsettle_next = fs;
 	d->have_lprev = hl != 0;
+	d->impl = impl != 0;
+	d->h = h;
 	d->cand_ok = 0;
 	return MESH_OK;
 }

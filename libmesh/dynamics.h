@@ -47,6 +47,18 @@
  * goes on and settling is tried again at a 100 times smaller force, or
  * at settle again after the next T1 (the junction that would have
  * collapsed may be the one that flipped).
+ *
+ * Implicit settling (implicit > 0, off by default: the paper's scheme is
+ * explicit Euler throughout): after the first refused settling of a
+ * stage, the rest of the stage is integrated by backward Euler steps of
+ * adaptive size with local error implicit (a length) and T1 events
+ * (gradflow.h) instead of explicit steps; settling is still tried as
+ * above (at settle after each T1, 100 times smaller after each refusal).
+ * Entering that mode drops the tensions (at most settle, decaying, as
+ * settling drops them).  A step the minimizer cannot take at any size
+ * tried is taken explicitly.  The trajectory is the flow's to within the
+ * tolerance, not the explicit steps' bits: bench/RESULTS.md measures the
+ * difference.
  */
 #ifndef TIS_DYNAMICS_H
 #define TIS_DYNAMICS_H
@@ -94,6 +106,9 @@ typedef struct {
 	                      every step, a T1 count that grows as 1/dt_max
 	                      (studies/README.md, "T1 flip-flops"); this one
 	                      gives it a flip period of its own */
+	double implicit;   /* 0 (default): explicit steps throughout.  > 0: the
+	                      local error tolerance (length) of the implicit
+	                      steps after a refused settling (above) */
 	int split;         /* DYN_FEEDBACK.  0 (default, the paper's): the
 	                      feedback term by Euler, -dt (gamma0 + dg) ldot/l
 	                      with ldot from the step's forces.  1: the vertices
@@ -119,6 +134,12 @@ typedef struct {
 	                      the state lines) */
 	long nsettle;      /* runs finished by settling */
 	double t_settled;  /* time covered by settling instead of steps */
+	long nimpl;        /* implicit steps taken (implicit > 0) */
+	long nsolve;       /* their minimizations, rejected ones included */
+	long nevent;       /* implicit steps shortened to land on a T1 */
+	long nimpl_fail;   /* steps taken explicitly in implicit mode because
+	                      no implicit step was accepted */
+	double t_implicit; /* time covered by implicit steps */
 } dyn_counts;
 
 typedef struct dyn dyn;
@@ -176,7 +197,9 @@ void dyn_counts_get(const dyn *d, dyn_counts *c);
  *   dyn_run        t, steps, T1s done and refused, settles, time settled,
  *                  T1s at the last renumbering of the cells, time since the
  *                  last noise update, settling threshold, shrink history
- *                  flag (doubles in C99 hex, %a, so they are exact)
+ *                  flag (doubles in C99 hex, %a, so they are exact); with
+ *                  implicit > 0 also the implicit mode flag, the next
+ *                  step size and the implicit counts
  *   dyn_rng        the random generator (ou_state_get), once it exists
  *   dyn_junctions  the junctions (a b pairs) in the integrator's order
  *                  and orientation: the random numbers go to junctions in

@@ -31,7 +31,7 @@ void min_opts_init(min_opts *o)
 	                 .pcsetup = NULL, .pcapply = NULL, .pcmaxit = 6,
 	                 .precond = 1, .pcmem = 4e9,
 	                 .pckind = MIN_PC_AUTO, .pcblock = MIN_PC_BLOCK,
-	                 .pcoverlap = MIN_PC_OVERLAP };
+	                 .pcoverlap = MIN_PC_OVERLAP, .prox = 0 };
 }
 
 const char *min_algo_name(min_algo a)
@@ -616,18 +616,33 @@ typedef struct {
 	int pcblock;          /* min_opts.pcblock */
 	int overlap;          /* min_opts.pcoverlap */
 	int have;             /* ch or sw holds a factor */
+	double prox;          /* min_opts.prox: weight of |x - x0|^2 / 2 */
+	const double *x0;     /* its centre (the mesh's coordinates) */
 } relax_ctx;
 
 static double relax_f(const double *x, double *grad, void *data)
 {
 	relax_ctx *rc = data;
-	return mesh_energy(rc->m, x, rc->p, grad, rc->ew);
+	double w = mesh_energy(rc->m, x, rc->p, grad, rc->ew);
+	if (rc->prox > 0) {
+		double q = 0;
+		for (int i = 0; i < 2 * rc->m->nv; i++) {
+			double d = x[i] - rc->x0[i];
+			q += d * d;
+			grad[i] += rc->prox * d;
+		}
+		w += 0.5 * rc->prox * q;
+	}
+	return w;
 }
 
 static void relax_hv(const double *x, const double *v, double *hv, void *data)
 {
 	relax_ctx *rc = data;
 	mesh_hessvec(rc->m, x, rc->p, v, hv, rc->hw);
+	if (rc->prox > 0)
+		for (int i = 0; i < 2 * rc->m->nv; i++)
+			hv[i] += rc->prox * v[i];
 }
 
 typedef struct {
@@ -731,6 +746,11 @@ static int relax_pcsetup(const double *x, void *data)
 	relax_ctx *rc = data;
 	rc->have = 0;
 	mesh_hessian_sparse(rc->m, x, rc->p, rc->hs);
+	/* the proximal term's Hessian: prox on the diagonal (first in its
+	 * column), so the shift ladder starts from a definite matrix */
+	if (rc->prox > 0)
+		for (int i = 0; i < rc->hs->h->n; i++)
+			rc->hs->h->val[rc->hs->h->colp[i]] += rc->prox;
 	if (rc->kind == MIN_PC_AUTO)
 		rc->kind = rc->m->nv > MIN_PC_FULL_NV ? MIN_PC_SCHWARZ : MIN_PC_CHOLESKY;
 	if (rc->kind == MIN_PC_CHOLESKY) {
@@ -797,13 +817,13 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 	oo.pcapply = relax_pcapply;
 	if (rep)
 		memset(rep, 0, sizeof *rep);
-	if (!isfinite(p->p0) || !isfinite(p->ka) || p->ka < 0)
+	if (!isfinite(p->p0) || !isfinite(p->ka) || p->ka < 0 || !(oo.prox >= 0 && isfinite(oo.prox)))
 		return MESH_EDOM;
 	if (m->nv == 0)
 		return MESH_OK;
 	relax_ctx rc = { .m = m, .p = p, .ew = energy_ws_alloc(m), .hw = hessian_ws_alloc(m),
 			 .pcmem = oo.pcmem, .kind = oo.pckind, .pcblock = oo.pcblock,
-			 .overlap = oo.pcoverlap };
+			 .overlap = oo.pcoverlap, .prox = oo.prox, .x0 = m->r };
 	if (oo.precond)
 		rc.hs = hessian_sparse_alloc(m);
 	double *x = malloc(2 * (size_t)m->nv * sizeof *x);
@@ -819,7 +839,8 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 				}
 			if (st != MESH_EINVAL) {
 				memcpy(m->r, x, 2 * (size_t)m->nv * sizeof *x);
-				mesh_wrap(m);
+				if (oo.prox == 0)
+					mesh_wrap(m);
 			}
 		}
 	}

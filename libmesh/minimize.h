@@ -93,6 +93,13 @@ typedef struct {
 	                      MIN_PC_BLOCK) */
 	int pcoverlap;     /* MIN_PC_SCHWARZ: layers of overlap (default
 	                      MIN_PC_OVERLAP) */
+	double prox;       /* mesh_relax: 0 (default) minimizes W; > 0
+	                      minimizes W + prox/2 |r - r0|^2, r0 the
+	                      coordinates at entry: one backward Euler step
+	                      of size 1/prox of the flow dr/dt = -grad W
+	                      (gradflow.h).  Then the coordinates are not
+	                      wrapped into the box, so that r - r0 is the
+	                      step's displacement */
 } min_opts;
 
 typedef struct {
@@ -109,7 +116,7 @@ typedef struct {
 /* Defaults: MIN_NEWTON (fastest to every force level in bench/relax.sh,
  * see bench/RESULTS.md) with polish, ftol 1e-10, maxeval 100000, gnorm,
  * hessvec, pcsetup, pcapply and stop NULL, pcmaxit 6, precond 1, pcmem 4e9,
- * pckind MIN_PC_AUTO, pcblock MIN_PC_BLOCK.  maxeval bounds objective evaluations plus Hessian-vector
+ * pckind MIN_PC_AUTO, pcblock MIN_PC_BLOCK, prox 0.  maxeval bounds objective evaluations plus Hessian-vector
  * products together. */
 void min_opts_init(min_opts *o);
 

@@ -10,47 +10,13 @@
 #include "geom.h"
 #include "lattice.h"
 #include "tap.h"
-
-/* A melted 8x8 tissue (noise 0.5 for 20 time units, T1 threshold t1). */
-static mesh *melted(unsigned long seed, double t1)
-{
-	mesh *m;
-	mesh_error err;
-	if (lattice_honeycomb(8, 8, &m, &err) != MESH_OK || mesh_param_set(m, "p0", 3.65) != MESH_OK)
-		return NULL;
-	model p = model_from_mesh(m);
-	dyn_opts o;
-	dyn_opts_init(&o);
-	o.sigma = 0.5;
-	o.t1_length = t1;
-	dyn *d;
-	if (dyn_alloc(m, &p, &o, seed, &d, &err) != MESH_OK || dyn_run(d, 20, NULL, NULL, NULL, &err) != MESH_OK) {
-		diag("melting: %s", err.msg);
-		return NULL;
-	}
-	dyn_free(d);
-	return m;
-}
+#include "quench_util.h"
 
 /* Quench m with sigma 0 for duration at the given settle force and T1
  * threshold. */
 static int quench_t1(mesh *m, double duration, double settle, double t1, dyn_counts *c)
 {
-	model p = model_from_mesh(m);
-	dyn_opts o;
-	dyn_opts_init(&o);
-	o.settle = settle;
-	o.t1_length = t1;
-	dyn *d;
-	mesh_error err;
-	int st = dyn_alloc(m, &p, &o, 1, &d, &err);
-	if (st == MESH_OK)
-		st = dyn_run(d, duration, NULL, NULL, NULL, &err);
-	if (st != MESH_OK)
-		diag("quench: %s", err.msg);
-	dyn_counts_get(d, c);
-	dyn_free(d);
-	return st;
+	return quench_tol(m, duration, settle, t1, 0, c);
 }
 
 static int quench(mesh *m, double duration, double settle, dyn_counts *c)
@@ -80,23 +46,10 @@ static double max_force(const mesh *m)
 	return f;
 }
 
-/* Largest vertex distance by minimum image (same vertex numbering). */
-static double max_shift(const mesh *a, const mesh *b)
-{
-	double mx = 0;
-	for (int v = 0; v < a->nv; v++) {
-		double dx = b->r[2 * v] - a->r[2 * v], dy = b->r[2 * v + 1] - a->r[2 * v + 1];
-		dx -= a->lx * nearbyint(dx / a->lx);
-		dy -= a->ly * nearbyint(dy / a->ly);
-		mx = fmax(mx, hypot(dx, dy));
-	}
-	return mx;
-}
-
 int main(void)
 {
 	tap_plan(13);
-	mesh *m0 = melted(3, 0.01);
+	mesh *m0 = melted_n(8, 3, 0.01);
 	if (m0 == NULL || m0->dg == NULL) {
 		ok(0, "melted tissue with tensions");
 		return 1;
@@ -169,7 +122,7 @@ int main(void)
 	 * grown to its length (seed and threshold found by search): stepping
 	 * creeps there without flipping it again, and settling must land
 	 * there too, not refuse for ever */
-	mesh *s0 = melted(13, 0.05), *s1 = s0 ? mesh_copy(s0) : NULL;
+	mesh *s0 = melted_n(8, 13, 0.05), *s1 = s0 ? mesh_copy(s0) : NULL;
 	dyn_counts cs0, cs1;
 	int ss0 = s0 ? quench_t1(s0, 800, 0, 0.05, &cs0) : -1;
 	int ss1 = s1 ? quench_t1(s1, 800, 1e-4, 0.05, &cs1) : -1;
