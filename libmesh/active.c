@@ -350,8 +350,12 @@ int act_fresh_set(act *a, const char *text)
 	if (a->d == NULL || text == NULL || text[0] == '\0')
 		return MESH_OK;
 	unsigned char *f = calloc((size_t)(m->nj ? m->nj : 1), 1);
-	if (f == NULL)
+	mesh_jindex *ix = mesh_jindex_alloc(m);
+	if (f == NULL || ix == NULL) {
+		free(f);
+		mesh_jindex_free(ix);
 		return MESH_ENOMEM;
+	}
 	int st = MESH_OK;
 	for (const char *p = text; *p && st == MESH_OK;) {
 		char *end;
@@ -359,7 +363,7 @@ int act_fresh_set(act *a, const char *text)
 		const char *q = end;
 		long vb = strtol(q, &end, 10);
 		int j = end == q || va < 0 || vb < 0 || va >= m->nv || vb >= m->nv ? -1 :
-			mesh_junction_find(m, (int)va, (int)vb);
+			mesh_jindex_find(ix, m, (int)va, (int)vb);
 		if (j < 0)
 			st = MESH_EINVAL;
 		else
@@ -369,6 +373,7 @@ int act_fresh_set(act *a, const char *text)
 	}
 	if (st == MESH_OK)
 		dyn_set_fresh(a->d, f);
+	mesh_jindex_free(ix);
 	free(f);
 	return st;
 }
@@ -518,11 +523,19 @@ static int canonical(act *a, mesh_error *err)
 		free(wp);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	}
+	mesh_jindex *ix = mesh_jindex_alloc(m);
+	if (ix == NULL) {
+		free(pairs);
+		free(fresh);
+		free(wp);
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
 	memset(a->active, 0, (size_t)m->nj);
 	for (int k = 0; k < a->na; k++)
-		a->active[mesh_junction_find(m, pairs[2 * k], pairs[2 * k + 1])] = 1;
+		a->active[mesh_jindex_find(ix, m, pairs[2 * k], pairs[2 * k + 1])] = 1;
 	for (int k = 0; k < a->nwatch; k++)
-		a->watch[k] = mesh_junction_find(m, wp[2 * k], wp[2 * k + 1]);
+		a->watch[k] = mesh_jindex_find(ix, m, wp[2 * k], wp[2 * k + 1]);
+	mesh_jindex_free(ix);
 	free(pairs);
 	free(wp);
 	a->na = 0;

@@ -849,8 +849,9 @@ static int reorder_junctions(mesh *m, const char *text, mesh_error *err)
 	int *jc = malloc(2 * (size_t)(nj ? nj : 1) * sizeof *jc);
 	double *jimg = malloc(2 * (size_t)(nj ? nj : 1) * sizeof *jimg);
 	double *dg = m->dg ? malloc((size_t)(nj ? nj : 1) * sizeof *dg) : NULL;
+	mesh_jindex *ix = mesh_jindex_alloc(m);
 	int st = MESH_OK;
-	if (!perm || !jv || !jc || !jimg || (m->dg && !dg)) {
+	if (!perm || !jv || !jc || !jimg || (m->dg && !dg) || !ix) {
 		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 		goto out;
 	}
@@ -868,7 +869,7 @@ static int reorder_junctions(mesh *m, const char *text, mesh_error *err)
 			goto out;
 		}
 		p = end;
-		int j = mesh_junction_find(m, (int)a, (int)b);
+		int j = mesh_jindex_find(ix, m, (int)a, (int)b);
 		if (j < 0 || perm[j] >= 0) {
 			st = bad(err, "dyn_junctions");
 			goto out;
@@ -899,6 +900,7 @@ static int reorder_junctions(mesh *m, const char *text, mesh_error *err)
 		memcpy(m->dg, dg, (size_t)nj * sizeof *dg);
 	mesh_kernel_build(m);
 out:
+	mesh_jindex_free(ix);
 	free(perm);
 	free(jv);
 	free(jc);

@@ -272,6 +272,61 @@ int mesh_junction_find(const mesh *m, int a, int b)
 	return -1;
 }
 
+struct mesh_jindex {
+	int nv;
+	int *off;   /* vertex v's junctions: js[off[v] .. off[v+1]), ascending */
+	int *js;
+};
+
+mesh_jindex *mesh_jindex_alloc(const mesh *m)
+{
+	mesh_jindex *x = malloc(sizeof *x);
+	if (x == NULL)
+		return NULL;
+	x->nv = m->nv;
+	x->off = calloc((size_t)m->nv + 2, sizeof *x->off);
+	x->js = malloc((2 * (size_t)m->nj + 1) * sizeof *x->js);
+	if (x->off == NULL || x->js == NULL) {
+		mesh_jindex_free(x);
+		return NULL;
+	}
+	for (int j = 0; j < m->nj; j++) {
+		x->off[m->jv[2 * j] + 2]++;
+		x->off[m->jv[2 * j + 1] + 2] += m->jv[2 * j + 1] != m->jv[2 * j];
+	}
+	for (int v = 0; v < m->nv; v++)
+		x->off[v + 2] += x->off[v + 1];
+	/* off[v + 1] is the fill position of v while filling, then its end */
+	for (int j = 0; j < m->nj; j++) {
+		int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+		x->js[x->off[a + 1]++] = j;
+		if (b != a)
+			x->js[x->off[b + 1]++] = j;
+	}
+	return x;
+}
+
+int mesh_jindex_find(const mesh_jindex *x, const mesh *m, int a, int b)
+{
+	if (a < 0 || a >= x->nv || b < 0 || b >= x->nv)
+		return -1;
+	for (int k = x->off[a]; k < x->off[a + 1]; k++) {
+		int j = x->js[k], u = m->jv[2 * j], v = m->jv[2 * j + 1];
+		if ((u == a && v == b) || (u == b && v == a))
+			return j;
+	}
+	return -1;
+}
+
+void mesh_jindex_free(mesh_jindex *x)
+{
+	if (x == NULL)
+		return;
+	free(x->off);
+	free(x->js);
+	free(x);
+}
+
 int mesh_tension_alloc(mesh *m)
 {
 	if (m->dg)
@@ -1137,13 +1192,18 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 		if (mesh_tension_alloc(m) != MESH_OK)
 			NOMEM();
 		unsigned char *seen = calloc(m->nj, 1);
-		if (seen == NULL)
+		mesh_jindex *ix = mesh_jindex_alloc(m);
+		if (seen == NULL || ix == NULL) {
+			free(seen);
+			mesh_jindex_free(ix);
 			NOMEM();
+		}
 		for (int i = 0; i < njl; i++) {
-			int j = mesh_junction_find(m, jl[i].a, jl[i].b);
+			int j = mesh_jindex_find(ix, m, jl[i].a, jl[i].b);
 			L = jl[i].line;
 			if (j < 0 || seen[j]) {
 				free(seen);
+				mesh_jindex_free(ix);
 				if (j < 0)
 					BAD("%d-%d is not a junction of the mesh", jl[i].a, jl[i].b);
 				BAD("junction %d-%d listed twice", jl[i].a, jl[i].b);
@@ -1152,6 +1212,7 @@ static int read_body(reader *rd, mesh *m, mesh_error *err)
 			m->dg[j] = jl[i].dg;
 		}
 		free(seen);
+		mesh_jindex_free(ix);
 	}
 	st = MESH_OK;
 out:

@@ -150,8 +150,21 @@ void mesh_kernel_update(mesh *m, int c0, int c1, const int *js, int n);
 /* Move every vertex into [0,lx) x [0,ly) and recompute the image offsets. */
 void mesh_wrap(mesh *m);
 
-/* The junction joining vertices a and b (either order), or -1. */
+/* The junction joining vertices a and b (either order), or -1; the one
+ * with the lowest number if several do (a small periodic tissue can have
+ * two).  A scan of every junction: for many look-ups, mesh_jindex. */
 int mesh_junction_find(const mesh *m, int a, int b);
+
+/* Every vertex's junctions, for look-ups by vertex pair in time of the
+ * vertex degree: reading a state or tension list of a 10^6-cell tissue
+ * junction by junction through mesh_junction_find would take time
+ * quadratic in the tissue.  mesh_jindex_find gives what mesh_junction_find
+ * gives, as long as the junctions' vertices (jv) have not changed since
+ * mesh_jindex_alloc (NULL: out of memory). */
+typedef struct mesh_jindex mesh_jindex;
+mesh_jindex *mesh_jindex_alloc(const mesh *m);
+int mesh_jindex_find(const mesh_jindex *x, const mesh *m, int a, int b);
+void mesh_jindex_free(mesh_jindex *x);
 
 /* Give the mesh a tension array (zeros) if it has none.  MESH_ENOMEM. */
 int mesh_tension_alloc(mesh *m);

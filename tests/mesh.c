@@ -27,7 +27,7 @@ static mesh *read_str(const char *s, long *line, int *st, mesh_error *err)
 
 int main(void)
 {
-	tap_plan(21);
+	tap_plan(23);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 4, &m, &err);
@@ -162,6 +162,24 @@ int main(void)
 	mesh *h;
 	ok(lattice_honeycomb(2, 2, &h, &err) == MESH_OK && h->nj == 12,
 	   "2x2 honeycomb is a valid tissue");
+	/* The index answers every vertex pair (and ids out of range) as the
+	 * scan does, on the smallest tissue and on the displaced 6x4 one. */
+	const mesh *ms[2] = { h, b };
+	for (int t = 0; t < 2; t++) {
+		const mesh *q = ms[t];
+		mesh_jindex *ix = mesh_jindex_alloc(q);
+		int same = ix != NULL, found = 0;
+		for (int u = -1; same && u <= q->nv; u++)
+			for (int v = -1; same && v <= q->nv; v++) {
+				int want = u < 0 || v < 0 || u >= q->nv || v >= q->nv ? -1 :
+				           mesh_junction_find(q, u, v);
+				same = mesh_jindex_find(ix, q, u, v) == want;
+				found += want >= 0;
+			}
+		ok(same && found == 2 * q->nj,
+		   "jindex: every vertex pair as mesh_junction_find (%d cells, %d pairs found)", q->nc, found);
+		mesh_jindex_free(ix);
+	}
 	mesh_free(h);
 	ok(lattice_honeycomb(3, 3, &h, &err) == MESH_EDOM, "odd ny refused");
 	ok(lattice_honeycomb(1, 2, &h, &err) == MESH_EDOM, "nx = 1 refused");
