@@ -352,6 +352,13 @@ spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind)
 	c->cm.quick_return_if_not_posdef = 1;
 	/* Supernodal symbolic structure, whichever numeric path runs. */
 	c->cm.supernodal = CHOLMOD_SUPERNODAL;
+	/* AMD only.  By default CHOLMOD also tries METIS on large factors,
+	 * and METIS (GKlib's gk_sigtrap) installs a process-wide handler for
+	 * SIGTERM and SIGINT that longjmps: a signal during the ordering was
+	 * swallowed (tis-relax at 10^5 cells ran to its end with exit 0) or,
+	 * delivered to another thread, crashed the process. */
+	c->cm.nmethods = 1;
+	c->cm.method[0].ordering = CHOLMOD_AMD;
 	c->n = a->n;
 	c->annz = a->nnz;
 	c->A = cholmod_allocate_sparse((size_t)a->n, (size_t)a->n, (size_t)a->nnz + 1, 1, 1, -1,
