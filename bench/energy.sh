@@ -5,8 +5,7 @@
 set -e
 cd "$(dirname "$0")/.."
 mkdir -p bench/out
-${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh \
-	bench/energy-bench.c libmesh/libmesh.a -lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread \
-	-o bench/out/energy-bench
+. bench/lib.sh
+bench_cc bench/out/energy-bench bench/energy-bench.c
 [ $# -gt 0 ] || set -- 324 1024 4096 16384 65536 100000 1000000
 bench/out/energy-bench --steps "$@"

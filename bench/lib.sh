@@ -1,6 +1,13 @@
 # lib.sh - what the benchmark scripts share; source it after setting T (a
 # scratch directory).  Not executable, so make bench does not run it.
 now() { date +%s.%N; }
+# bench_cc OUT SRC: a bench program linked against the library the build
+# made, from the top of the tree (or $top)
+bench_cc() {
+	${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -I"${top:-.}/libmesh" \
+		"$2" "${top:-.}/libmesh/libmesh.a" -lcholmod -lsundials_cvode -lsundials_nvecserial \
+		-lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread -o "$1"
+}
 # best K CMD...: the shortest wall time of K runs of CMD, in seconds; the
 # command's stdout goes to $T/out.tsv (the last run's stays there), and
 # exit 3 (some point missed its tolerance) still counts as a run
