@@ -7,14 +7,13 @@
 
 #include "minimize.h"
 
-/* Squared length and vector of junction j, the expression of the T1 test
- * in dynamics.c (the same bits for the same coordinates). */
-static double jvec(const mesh *m, const double *r, int j, double *dx, double *dy)
+/* Vector d of junction j (junction_vec) and its squared length, the
+ * expression of the T1 test in dynamics.c (the same bits for the same
+ * coordinates). */
+static double jvec2(const mesh *m, const double *r, int j, double d[2])
 {
-	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
-	*dx = r[2 * b] - r[2 * a] + m->jimg[2 * j];
-	*dy = r[2 * b + 1] - r[2 * a + 1] + m->jimg[2 * j + 1];
-	return *dx * *dx + *dy * *dy;
+	junction_vec(m, r, j, d);
+	return d[0] * d[0] + d[1] * d[1];
 }
 
 static double clamp(double x, double lo, double hi)
@@ -52,7 +51,7 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 	memcpy(r0, m->r, nr * sizeof *r0);
 	double q0min = INFINITY;
 	for (int j = 0; j < nj; j++) {
-		q0[3 * j] = jvec(m, r0, j, q0 + 3 * j + 1, q0 + 3 * j + 2);
+		q0[3 * j] = jvec2(m, r0, j, q0 + 3 * j + 1);
 		q0min = fmin(q0min, q0[3 * j]);
 	}
 	/* an error of the order of a junction's length would get its
@@ -97,7 +96,7 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 		double smin = INFINITY, l2max = 0;
 		int jev = -1, inwin = 0;
 		for (int j = 0; j < nj; j++) {
-			double dx, dy, q = jvec(m, m->r, j, &dx, &dy);
+			double dv[2], q = jvec2(m, m->r, j, dv), dx = dv[0], dy = dv[1];
 			l2max = fmax(l2max, q);
 			double e = q0[3 * j] < lev2 ? q0[3 * j] : lev2;
 			int over = dx * q0[3 * j + 1] + dy * q0[3 * j + 2] <= 0;
