@@ -1,11 +1,20 @@
 #!/bin/sh
-# Energy+gradient per vertex, own order against the Hilbert renumbering,
-# paired in one process (bench/RESULTS.md, "Spatial order"); arguments
-# replace the sizes.
+# Energy+gradient per vertex of the perturbed honeycomb in its own (row)
+# order against its Hilbert renumbering: energy-bench without and with
+# --order, alternating, ROUNDS rounds (default 3) (bench/RESULTS.md,
+# "Spatial order"); arguments replace the sizes.
 set -e
 cd "$(dirname "$0")/.."
 mkdir -p bench/out
 . bench/lib.sh
-bench_cc bench/out/order-pair bench/order-pair.c
+bench_cc bench/out/energy-bench bench/energy-bench.c
 [ $# -gt 0 ] || set -- 100000 1000000
-for n; do bench/out/order-pair "$n" 30; done
+printf '# order\tcells\tvertices\tus_per_eval\tns_per_vertex\n'
+for n; do
+	r=0
+	while [ "$r" -lt "${ROUNDS:-3}" ]; do
+		printf 'row\t'; bench/out/energy-bench "$n" | tail -n 1
+		printf 'hilbert\t'; bench/out/energy-bench --order "$n" | tail -n 1
+		r=$((r + 1))
+	done
+done
