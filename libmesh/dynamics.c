@@ -581,7 +581,6 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		/* f is the gradient of W + sum dg l: the force with its sign flipped */
 		double f2;
 		mesh_energy_force(m, r, &d->p, dg, f, &f2, d->ws);
-		const v2d *fv = (const v2d *)f;
 		if (!isfinite(f2))
 			return mesh_error_set(err, 0, MESH_EDOM, "forces became non-finite at step %ld, "
 			                      "t = %.10g", d->c.nstep, d->c.t);
@@ -666,9 +665,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 					                      a, b, d->c.nstep, d->c.t);
 			}
 		}
-		v2d *rv = (v2d *)r;
-		for (int v = 0; v < nv; v++)
-			rv[v] -= dt * fv[v];
+		mesh_euler_move(d->ws, nv, r, f, dt);
 		d->disp += dt * fmax;
 		d->ldisp += dt * fmax;
 		if (dg) {

@@ -63,6 +63,7 @@ double cell_perimeter(const mesh *m, const double *r, int k)
 
 struct energy_ws {
 	int nc, nj;
+	int simd;     /* 1: the kernel's AVX2 build (energy_ws_simd) */
 	double *len;  /* per junction: its length */
 	double *vec;  /* 2 per junction: its vector; NULL on a large tissue,
 	                 where the gradient pass computes it again */
@@ -78,6 +79,8 @@ energy_ws *energy_ws_alloc(const mesh *m)
 		return NULL;
 	w->nc = m->nc;
 	w->nj = m->nj;
+	w->simd = 0;
+	energy_ws_simd(w, 1);
 	w->len = malloc(((size_t)m->nj + 1) * sizeof *w->len);
 	w->vec = m->nv <= KERNEL_BIG_NV ? malloc((2 * (size_t)m->nj + 1) * sizeof *w->vec) : NULL;
 	w->cc = malloc((2 * (size_t)m->nc + 1) * sizeof *w->cc);
@@ -184,7 +187,7 @@ static inline v2d swap1(v2d a)
 /* The largest |g_v|^2, NaNs passed over (as the dynamics always did): two
  * vertices at a time, each lane a maximum of its own (exact, so the two
  * combine to the same number in any order). */
-static double gmax2(int nv, const v2d *g)
+static inline __attribute__((always_inline)) double gmax2(int nv, const v2d *g)
 {
 	v2d f2 = { 0, 0 };
 	int v = 0;
@@ -198,6 +201,39 @@ static double gmax2(int nv, const v2d *g)
 	}
 	double m = f2[1] > f2[0] ? f2[1] : f2[0];
 	if (v < nv) {
+		v2d q = g[v] * g[v];
+		m = q[0] + q[1] > m ? q[0] + q[1] : m;
+	}
+	return m;
+}
+
+/* gmax2 for the AVX2 build, four vertices at a time: the same sum
+ * x^2 + y^2 per vertex (unpacklo/hi pair each vertex's squares), and a
+ * compare and select that keeps the old maximum where the new value is
+ * not greater (NaN included), as maxpd does.  Lowered to SSE it would
+ * cost more than gmax2, so the portable build keeps that. */
+typedef double v4d __attribute__((vector_size(32), aligned(8)));
+typedef long long v4i __attribute__((vector_size(32)));
+
+static inline __attribute__((always_inline)) double gmax4(int nv, const v2d *g)
+{
+	const v4d *g4 = (const v4d *)g;
+	v4d f2 = { 0, 0, 0, 0 };
+	int v = 0;
+	for (; v + 3 < nv; v += 4) {
+		v4d p = g4[v / 2] * g4[v / 2], q = g4[v / 2 + 1] * g4[v / 2 + 1];
+#ifdef __clang__
+		v4d s = __builtin_shufflevector(p, q, 0, 4, 2, 6) + __builtin_shufflevector(p, q, 1, 5, 3, 7);
+#else
+		v4d s = __builtin_shuffle(p, q, (v4i){ 0, 4, 2, 6 }) + __builtin_shuffle(p, q, (v4i){ 1, 5, 3, 7 });
+#endif
+		v4i gt = s > f2;
+		f2 = (v4d)(((v4i)s & gt) | ((v4i)f2 & ~gt));
+	}
+	double m = 0;
+	for (int k = 0; k < 4; k++)
+		m = f2[k] > m ? f2[k] : m;
+	for (; v < nv; v++) {
 		v2d q = g[v] * g[v];
 		m = q[0] + q[1] > m ? q[0] + q[1] : m;
 	}
@@ -372,7 +408,8 @@ pass_grad_codes(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2
  * tests it). */
 static inline __attribute__((always_inline)) double
 energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
-              double *grad, double *g2max, energy_ws *w, const int form, const int tens)
+              double *grad, double *g2max, energy_ws *w, const int form, const int tens,
+              const int simd)
 {
 	const int nj = m->nj;
 	const v2d *r2 = (const v2d *)r;
@@ -413,23 +450,117 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 		*gb += perp + tan;
 	}
 	if (g2max)
-		*g2max = gmax2(m->nv, g2);
+		*g2max = simd ? gmax4(m->nv, g2) : gmax2(m->nv, g2);
 	return W;
+}
+
+/* The kernel's form for this tissue and workspace, its tensions a
+ * constant: each of the eight combinations compiled on its own. */
+static inline __attribute__((always_inline)) double
+energy_select(const mesh *m, const double *r, const model *p, const double *dg,
+              double *grad, double *g2max, energy_ws *w, const int simd)
+{
+	int form = w->vec ? (m->kok ? 0 : 3) : m->kok ? 2 : 1;
+	if (dg == NULL)
+		return form == 0 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 0, 0, simd) :
+		       form == 2 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 2, 0, simd) :
+		       form == 3 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 3, 0, simd) :
+		                   energy_kernel(m, r, p, NULL, grad, g2max, w, 1, 0, simd);
+	return form == 0 ? energy_kernel(m, r, p, dg, grad, g2max, w, 0, 1, simd) :
+	       form == 2 ? energy_kernel(m, r, p, dg, grad, g2max, w, 2, 1, simd) :
+	       form == 3 ? energy_kernel(m, r, p, dg, grad, g2max, w, 3, 1, simd) :
+	                   energy_kernel(m, r, p, dg, grad, g2max, w, 1, 1, simd);
+}
+
+static double energy_portable(const mesh *m, const double *r, const model *p,
+                              const double *dg, double *grad, double *g2max, energy_ws *w)
+{
+	return energy_select(m, r, p, dg, grad, g2max, w, 0);
+}
+
+/* The same source built for AVX2 as well, and picked at run time: the
+ * library's default target (x86-64-v2) has only two-operand SSE, and
+ * the three-operand VEX forms save the register copies, 13 % of the
+ * step's instructions in cache (bench/RESULTS.md).  FMA is not enabled
+ * (target "avx2" does not include it, and ISO C mode does not contract),
+ * so both builds do the same operations: the same bits. */
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(__AVX2__)
+#define ENERGY_HAVE_AVX2 1
+__attribute__((target("avx2"))) static double
+energy_avx2(const mesh *m, const double *r, const model *p,
+            const double *dg, double *grad, double *g2max, energy_ws *w)
+{
+	return energy_select(m, r, p, dg, grad, g2max, w, 1);
+}
+#endif
+
+/* r -= dt f four doubles (two vertices) at a time, two vectors per
+ * iteration: with AVX2 one instruction per operation on two vertices,
+ * and the loop's own count and branch over four.  Element by element the
+ * same product and difference as the scalar loop. */
+
+static inline __attribute__((always_inline)) void
+move_body(int nv, double *restrict r, const double *restrict f, double dt)
+{
+	v4d *restrict r4 = (v4d *)r;
+	const v4d *restrict f4 = (const v4d *)f;
+	int n = nv / 2, i = 0;
+	for (; i + 1 < n; i += 2) {
+		r4[i] -= dt * f4[i];
+		r4[i + 1] -= dt * f4[i + 1];
+	}
+	if (i < n)
+		r4[i] -= dt * f4[i];
+	if (nv & 1)
+		((v2d *)r)[nv - 1] -= dt * ((const v2d *)f)[nv - 1];
+}
+
+static void move_portable(int nv, double *r, const double *f, double dt)
+{
+	move_body(nv, r, f, dt);
+}
+
+#ifdef ENERGY_HAVE_AVX2
+__attribute__((target("avx2"))) static void move_avx2(int nv, double *r, const double *f, double dt)
+{
+	move_body(nv, r, f, dt);
+}
+#endif
+
+void mesh_euler_move(const energy_ws *w, int nv, double *r, const double *f, double dt)
+{
+#ifdef ENERGY_HAVE_AVX2
+	if (w->simd) {
+		move_avx2(nv, r, f, dt);
+		return;
+	}
+#else
+	(void)w;
+#endif
+	move_portable(nv, r, f, dt);
+}
+
+int energy_ws_simd(energy_ws *w, int level)
+{
+	w->simd = 0;
+#ifdef ENERGY_HAVE_AVX2
+	__builtin_cpu_init();
+	if (level >= 1 && __builtin_cpu_supports("avx2"))
+		w->simd = 1;
+#else
+	(void)level;
+#endif
+	return w->simd;
 }
 
 double mesh_energy_force(const mesh *m, const double *r, const model *p,
                          const double *dg, double *grad, double *g2max, energy_ws *w)
 {
-	int form = w->vec ? (m->kok ? 0 : 3) : m->kok ? 2 : 1;
-	if (dg == NULL)
-		return form == 0 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 0, 0) :
-		       form == 2 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 2, 0) :
-		       form == 3 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 3, 0) :
-		                   energy_kernel(m, r, p, NULL, grad, g2max, w, 1, 0);
-	return form == 0 ? energy_kernel(m, r, p, dg, grad, g2max, w, 0, 1) :
-	       form == 2 ? energy_kernel(m, r, p, dg, grad, g2max, w, 2, 1) :
-	       form == 3 ? energy_kernel(m, r, p, dg, grad, g2max, w, 3, 1) :
-	                   energy_kernel(m, r, p, dg, grad, g2max, w, 1, 1);
+#ifdef ENERGY_HAVE_AVX2
+	if (w->simd)
+		return energy_avx2(m, r, p, dg, grad, g2max, w);
+#endif
+	return energy_portable(m, r, p, dg, grad, g2max, w);
 }
 
 double mesh_energy_tension(const mesh *m, const double *r, const model *p,

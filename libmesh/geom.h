@@ -43,6 +43,13 @@ typedef struct energy_ws energy_ws;
 energy_ws *energy_ws_alloc(const mesh *m);
 void energy_ws_free(energy_ws *w);
 
+/* Which build of the energy kernel w uses: level 0 the portable one
+ * (the library's target), 1 the AVX2 build of the same source where the
+ * CPU has AVX2 (what energy_ws_alloc picks).  Both do the same
+ * operations in the same order, so they give the same bits; returns the
+ * level taken. */
+int energy_ws_simd(energy_ws *w, int level);
+
 /* W at r, and its gradient dW/dr into grad (2*nv) unless grad is NULL.
  * No allocation; w must come from energy_ws_alloc for this mesh. */
 double mesh_energy(const mesh *m, const double *r, const model *p,
@@ -61,6 +68,11 @@ double mesh_energy_tension(const mesh *m, const double *r, const model *p,
  * explicit step needs for its step length. */
 double mesh_energy_force(const mesh *m, const double *r, const model *p,
                          const double *dg, double *grad, double *g2max, energy_ws *w);
+
+/* The explicit Euler move r -= dt f over nv vertices (r and f 2 nv
+ * doubles, not overlapping), with w's build of the kernel: the same
+ * numbers as the plain loop. */
+void mesh_euler_move(const energy_ws *w, int nv, double *r, const double *f, double dt);
 
 /* The junction lengths (nj, as mesh_junction_vectors gives them) of w's
  * last energy evaluation: code that needs them at the same coordinates
