@@ -3,7 +3,7 @@
  * evaluation of a perturbed N-cell honeycomb (N = nx*nx rounded to even
  * nx) or of the tissue in the file MESH, best of 10 runs of 1e7
  * vertex-evaluations.  --order first
- * renumbers the mesh along a Hilbert curve (mesh_order_spatial);
+ * renumbers the mesh by strips (mesh_order_spatial);
  * --steps also times the explicit Euler step of the dynamics (dyn_run at
  * sigma 0.5 with T1s: force, move, noise, T1 candidates) from t = 0.01
  * to 0.03, best of at least 5 runs.  Times are the thread's CPU time: a shared

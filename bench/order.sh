@@ -1,6 +1,7 @@
 #!/bin/sh
 # Energy+gradient per vertex of the perturbed honeycomb in its own (row)
-# order against its Hilbert renumbering: energy-bench without and with
+# order against its renumbering by mesh_order_spatial (strips; a Hilbert
+# curve before): energy-bench without and with
 # --order, alternating, ROUNDS rounds (default 3) (bench/RESULTS.md,
 # "Spatial order"); arguments replace the sizes.
 set -e

@@ -92,7 +92,7 @@ typedef struct {
 
 /* Run the protocol on m (continued: anneal_resume said so) to its end or
  * a stop.  A run that ends leaves a passive mesh (no tensions after the
- * relaxation) numbered along the cells' Hilbert curve for the programs
+ * relaxation) numbered by strips through the box (order.h) for the programs
  * reading it (mesh_order_spatial; the input is left as it is, so a
  * trajectory does not depend on this); one that stops leaves the state
  * lines that continuing it needs, in its own numbering.  MESH_OK whatever

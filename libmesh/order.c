@@ -1,4 +1,5 @@
-/* order.c - Hilbert-curve numbering of cells, vertices and junctions. */
+/* order.c - numbering of cells, vertices and junctions by strips; the
+ * Hilbert curve. */
 #include "order.h"
 
 #include <math.h>
@@ -30,6 +31,22 @@ uint32_t order_hilbert(double x, double y, double lx, double ly)
 	return d;
 }
 
+int order_nstrips(int n, double lx, double ly)
+{
+	double ns = n > 0 && lx > 0 && ly > 0 ? ly / (2 * sqrt(lx * ly / n)) : 1;
+	return ns < 1.5 ? 1 : ns > 65536 ? 65536 : (int)lround(ns);
+}
+
+uint32_t order_strip(double x, double y, double lx, double ly, int nstrip)
+{
+	const uint32_t side = 1u << 16;
+	x = (x - lx * floor(x / lx)) / lx * side;
+	y = (y - ly * floor(y / ly)) / ly * nstrip;
+	uint32_t ix = x >= side ? side - 1 : x > 0 ? (uint32_t)x : 0;
+	uint32_t b = y >= nstrip ? (uint32_t)nstrip - 1 : y > 0 ? (uint32_t)y : 0;
+	return b << 16 | ix;
+}
+
 struct key {
 	uint32_t key;
 	int k;
@@ -54,8 +71,9 @@ int order_points(int n, double *xy, double lx, double ly)
 		free(tmp);
 		return MESH_ENOMEM;
 	}
+	const int ns = order_nstrips(n, lx, ly);
 	for (int i = 0; i < n; i++)
-		pk[i] = (struct key){ order_hilbert(xy[2 * i], xy[2 * i + 1], lx, ly), i };
+		pk[i] = (struct key){ order_strip(xy[2 * i], xy[2 * i + 1], lx, ly, ns), i };
 	qsort(pk, (size_t)n, sizeof *pk, cmp_key);
 	for (int i = 0; i < n; i++) {
 		tmp[2 * i] = xy[2 * pk[i].k];
@@ -67,13 +85,14 @@ int order_points(int n, double *xy, double lx, double ly)
 	return MESH_OK;
 }
 
-/* newk[k]: the new number of cell k, by the curve position of the mean of
- * its unwrapped corners. */
+/* newk[k]: the new number of cell k, by the strip key of the mean of its
+ * unwrapped corners. */
 static int cell_order(const mesh *m, int *newk)
 {
 	struct key *ck = malloc(((size_t)m->nc + 1) * sizeof *ck);
 	if (ck == NULL)
 		return -1;
+	const int ns = order_nstrips(m->nc, m->lx, m->ly);
 	for (int k = 0; k < m->nc; k++) {
 		double x = 0, y = 0;
 		int s = m->coff[k], n = m->coff[k + 1] - s;
@@ -81,7 +100,7 @@ static int cell_order(const mesh *m, int *newk)
 			x += m->r[2 * m->cv[i]] + m->cimg[2 * i];
 			y += m->r[2 * m->cv[i] + 1] + m->cimg[2 * i + 1];
 		}
-		ck[k] = (struct key){ order_hilbert(x / n, y / n, m->lx, m->ly), k };
+		ck[k] = (struct key){ order_strip(x / n, y / n, m->lx, m->ly, ns), k };
 	}
 	qsort(ck, (size_t)m->nc, sizeof *ck, cmp_key);
 	for (int i = 0; i < m->nc; i++)

@@ -5,9 +5,18 @@
  * nearby numbers, those gathers stay in cache.  A Poisson-Voronoi tissue
  * as CGAL enumerates it has none (40 % of junctions join vertices more
  * than 1000 numbers apart at 10^5 cells), and T1s scatter the cell table
- * of any tissue.  The order here is a Hilbert curve through the box:
- * cells by the curve position of their corner mean, vertices and
- * junctions by first appearance walking the cells in that order.
+ * of any tissue.  The order here is by strips: the box cut into
+ * horizontal strips about two cells high, cells (and points) by strip,
+ * then by x; vertices and junctions by first appearance walking the cells
+ * in that order.  Strips rather than a space-filling curve, because the
+ * kernel's gradient pass holds a vertex's partial sum from the first
+ * junction at the vertex to the last (bench/RESULTS.md, "Spatial
+ * order"): along strips no two neighbouring cells are more than about two
+ * strips (4 sqrt(N) cells, ~2 MB at 10^6 cells) apart in the numbering,
+ * while a Hilbert curve numbers the two sides of its quadrants' borders
+ * up to N/2 apart, and those sums leave the cache in between (10^6
+ * cells: 1.1-1.2x slower).  The Hilbert curve stays for compact patches
+ * (minimize.c's Schwarz blocks).
  */
 #ifndef TIS_ORDER_H
 #define TIS_ORDER_H
@@ -20,8 +29,17 @@
  * curve of 2^16 x 2^16 squares covering the box. */
 uint32_t order_hilbert(double x, double y, double lx, double ly);
 
-/* Sort n points xy (2n values) along the curve, in place (ties keep their
- * order).  MESH_ENOMEM. */
+/* The number of strips for n cells or points in the lx by ly box: strips
+ * about two mean cell spacings high, at least 1, at most 65536. */
+int order_nstrips(int n, double lx, double ly);
+
+/* The strip-order key of (x, y) (wrapped into the box) with nstrip strips:
+ * strip index above, the x position in 2^16 steps below. */
+uint32_t order_strip(double x, double y, double lx, double ly, int nstrip);
+
+/* Sort n points xy (2n values) by strips (order_strip with
+ * order_nstrips(n, lx, ly)), in place (ties keep their order).
+ * MESH_ENOMEM. */
 int order_points(int n, double *xy, double lx, double ly);
 
 enum {
@@ -31,7 +49,8 @@ enum {
 	MESH_ORDER_ALL = 3        /* both: cells first */
 };
 
-/* Renumber m along the Hilbert curve (what: MESH_ORDER_*).  The geometry,
+/* Renumber m by strips (what: MESH_ORDER_*; cells by the strip key of
+ * their corner mean).  The geometry,
  * each cell's corner order and each junction's orientation are unchanged
  * (so energies and gradients are, up to the order of their sums); junction
  * tensions move with their junctions.  MESH_ORDER_CELLS keeps every vertex

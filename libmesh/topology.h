@@ -39,7 +39,7 @@ int mesh_t1(mesh *m, int j, double lnew, mesh_error *err);
  * updates five instead of all. */
 int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err);
 
-/* Renumber the cells along a Hilbert curve through the box
+/* Renumber the cells by strips through the box
  * (mesh_order_spatial with MESH_ORDER_CELLS, order.h), so that
  * neighbouring cells have nearby numbers.  A T1 shifts the
  * cell arrays between the smallest and largest number of its four cells;

@@ -1,8 +1,10 @@
 /* Spatial order: order_hilbert walks the quadrants in the curve's order
  * and is continuous (consecutive squares of a fine grid are neighbours);
- * mesh_order_spatial keeps a tissue valid with the same polygons, energy,
- * forces (matched by position) and junction tensions, brings neighbours'
- * numbers together, and is idempotent. */
+ * order_strip keys by strip, then x; mesh_order_spatial keeps a tissue
+ * valid with the same polygons, energy, forces (matched by position) and
+ * junction tensions, brings neighbours' numbers together (neighbouring
+ * cells at most about two strips apart, but across the periodic edge),
+ * and is idempotent. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,7 +25,7 @@ static double spread(const mesh *m)
 
 int main(void)
 {
-	tap_plan(11);
+	tap_plan(13);
 	/* 1. the curve: quadrant order (0,0) (0,1) (1,1) (1,0), and on a
 	 * 64 x 64 grid of square centres, each square's successor along the
 	 * curve is one of its four neighbours */
@@ -49,6 +51,14 @@ int main(void)
 	ok(good, "64 x 64 squares: one curve position each, successive ones adjacent");
 	free(at);
 	ok(order_hilbert(1.25, -0.75, 1, 1) == q0, "positions wrap into the box");
+	ok(order_nstrips(900, 30, 30) == 15 && order_nstrips(100, 10, 40) == 10 &&
+	   order_nstrips(1, 5, 5) == 1 && order_nstrips(2000000000, 1e5, 1e6) == 65536,
+	   "strips about two cells high (%d for 900 cells)", order_nstrips(900, 30, 30));
+	ok(order_strip(0.9, 0.1, 1, 1, 4) < order_strip(0.1, 0.3, 1, 1, 4) &&
+	   order_strip(0.1, 0.1, 1, 1, 4) < order_strip(0.2, 0.2, 1, 1, 4) &&
+	   order_strip(1.25, -0.9, 1, 1, 4) == order_strip(0.25, 0.1, 1, 1, 4) &&
+	   order_strip(0.5, 0.99, 1, 1, 4) >> 16 == 3,
+	   "strip keys: by strip, then x, wrapped into the box");
 
 	/* 2. a Voronoi tissue (cells in seed order, no locality) with a
 	 * tension on each junction equal to its length */
@@ -88,7 +98,12 @@ int main(void)
 		tens &= fabs(u->dg[j] - junction_length(u, u->r, j)) < 1e-12;
 	ok(tens, "tensions moved with their junctions");
 	double s0 = spread(m), s1 = spread(u);
-	ok(s1 * 5 < s0, "junctions join vertices %.1f numbers apart on average, before %.1f", s1, s0);
+	int ns = order_nstrips(u->nc, u->lx, u->ly), far = 0;
+	for (int j = 0; j < u->nj; j++)
+		far += abs(u->jc[2 * j] - u->jc[2 * j + 1]) > 2.5 * u->nc / ns;
+	ok(s1 * 5 < s0 && far < 0.04 * u->nj, "junctions join vertices %.1f numbers apart on "
+	   "average, before %.1f; %d of %d join cells more than 2.5 strips apart (the periodic "
+	   "edge; a Hilbert curve: 246)", s1, s0, far, u->nj);
 	mesh *u2 = mesh_copy(u);
 	mesh_order_spatial(u2, MESH_ORDER_ALL);
 	ok(memcmp(u2->r, u->r, 2 * u->nv * sizeof *u->r) == 0 &&
@@ -106,7 +121,7 @@ int main(void)
 		       u3->r[2 * u3->cv[i] + 1] == m->r[2 * m->cv[i] + 1];
 	ok(same, "vertices only: the same cells in the same order");
 	mesh_free(u3);
-	/* points: sorted along the curve, the same multiset */
+	/* points: sorted by strips, the same multiset */
 	double pts[2 * 900], sx0 = 0, sx1 = 0;
 	memcpy(pts, xy, sizeof pts);
 	int sorted = order_points(900, pts, 30, 30) == MESH_OK;
@@ -114,10 +129,10 @@ int main(void)
 		sx0 += xy[2 * i] * xy[2 * i + 1];
 		sx1 += pts[2 * i] * pts[2 * i + 1];
 		if (i > 0)
-			sorted &= order_hilbert(pts[2 * i - 2], pts[2 * i - 1], 30, 30) <=
-				  order_hilbert(pts[2 * i], pts[2 * i + 1], 30, 30);
+			sorted &= order_strip(pts[2 * i - 2], pts[2 * i - 1], 30, 30, 15) <=
+				  order_strip(pts[2 * i], pts[2 * i + 1], 30, 30, 15);
 	}
-	ok(sorted && fabs(sx0 - sx1) < 1e-9 * fabs(sx0), "order_points sorts along the curve, same points");
+	ok(sorted && fabs(sx0 - sx1) < 1e-9 * fabs(sx0), "order_points sorts by strips, same points");
 	free(g0);
 	free(g1);
 	energy_ws_free(w);

@@ -132,8 +132,8 @@ int main(int argc, char **argv)
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	if (voronoi_lloyd(o.lx, o.ly, n, xy, (int)o.lloyd, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
-	/* Random seeds have no order of their own: along a Hilbert curve,
-	 * cells come out with locality (cell k is still seed k) */
+	/* Random seeds have no order of their own: sorted by strips, cells
+	 * come out with locality (cell k is still seed k) */
 	if (!o.points && order_points(n, xy, o.lx, o.ly) != MESH_OK)
 		cli_die(EXIT_INPUT, "out of memory");
 
