@@ -454,6 +454,20 @@ double *cli_double_list(const char *opt, const char *arg, int *n)
 	return v;
 }
 
+double *cli_double_list_above(const char *opt, const char *arg, int *n, double lo,
+                              int strict)
+{
+	double *v = cli_double_list(opt, arg, n);
+	for (int i = 0; i < *n; i++)
+		if (strict ? !(v[i] > lo) : !(v[i] >= lo)) {
+			double bad = v[i];
+			free(v);   /* exit checks for leaks under ASan */
+			cli_usage_error("%s: every value must be %s %g (got %g)", opt,
+			                strict ? ">" : ">=", lo, bad);
+		}
+	return v;
+}
+
 void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b)
 {
 	*a = cli_long(opt, optarg, 0, 2000000000);

@@ -49,6 +49,11 @@ void cli_box(const char *ax, const char *ay, double *lx, double *ly);
  * otherwise. */
 double *cli_double_list(const char *opt, const char *arg, int *n);
 
+/* cli_double_list whose every value is > lo (strict) or >= lo; a usage
+ * error "OPT: every value must be > LO (got V)" otherwise. */
+double *cli_double_list_above(const char *opt, const char *arg, int *n, double lo,
+                              int strict);
+
 /* "k1,k2,...": integers in [lo, hi] (cli_long each); malloc'd, *n of them.
  * Usage error otherwise. */
 int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n);
