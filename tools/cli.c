@@ -476,6 +476,26 @@ void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, lon
 	*b = cli_long(opt, argv[optind++], 0, 2000000000);
 }
 
+void cli_jsel(jsel *js, const char *name, int again, const char *choose, int argc,
+              char *const argv[])
+{
+	jsel_kind kind = strcmp(name, "junction") == 0 ? JSEL_PAIR
+	               : strcmp(name, "index") == 0 ? JSEL_INDEX
+	               : strcmp(name, "random") == 0 ? JSEL_RANDOM
+	               : strcmp(name, "list") == 0 ? JSEL_LIST : JSEL_ALL;
+	if (js->kind != JSEL_NONE && !(again && js->kind == kind))
+		cli_usage_error("%s", choose);
+	js->kind = kind;
+	if (kind == JSEL_PAIR)
+		cli_vertex_pair("--junction", argc, argv, &js->a, &js->b);
+	else if (kind == JSEL_INDEX)
+		js->index = cli_long("--index", optarg, 0, 2000000000);
+	else if (kind == JSEL_RANDOM)
+		js->count = cli_long("--random", optarg, 1, 2000000000);
+	else if (kind == JSEL_LIST)
+		js->path = optarg;
+}
+
 const char *cli_stop_name(void)
 {
 	return cli_stop == SIGINT ? "SIGINT" : cli_stop == SIGTERM ? "SIGTERM" : "a signal";

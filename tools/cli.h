@@ -7,6 +7,7 @@
 #include <signal.h>
 #include <stdio.h>
 #include "mesh.h"
+#include "select.h"
 
 enum { EXIT_INPUT = 1, EXIT_USAGE = 2, EXIT_NOCONV = 3 };
 
@@ -61,6 +62,15 @@ int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n);
 /* The two vertex ids of an option like --junction A B inside a getopt_long
  * loop: A is optarg, B the next argument (optind moves past it). */
 void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b);
+
+/* A junction option (select.h) inside a getopt_long loop, by its long
+ * name: "junction" A B (JSEL_PAIR; B is the next argument), "index" K,
+ * "random" K, "list" FILE, any other name every junction (JSEL_ALL:
+ * --all, --network).  A second choice is a usage error with the message
+ * choose, unless again is set and it is the same kind (the last value
+ * counts). */
+void cli_jsel(jsel *js, const char *name, int again, const char *choose, int argc,
+              char *const argv[]);
 
 /* An output file for run j of several: its name is pattern with its one
  * "%d" replaced by j (cli_one_d says whether it has that), or pattern

@@ -75,13 +75,6 @@ struct opts {
 	int *watch, nwatch;
 };
 
-static void set_sel(struct opts *o, jsel_kind kind)
-{
-	if (o->js.kind != JSEL_NONE)
-		cli_usage_error("choose one of --junction, --index, --random, --list, --network");
-	o->js.kind = kind;
-}
-
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
@@ -122,17 +115,13 @@ static struct opts parse(int argc, char **argv)
 	};
 	struct opts o = { .time = 1000, .seed = 1, .trace_every = 1 };
 	act_opts_init(&o.a);
-	int c;
-	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+	int c, li;
+	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
 		switch (c) {
-		case O_JUNCTION:
-			set_sel(&o, JSEL_PAIR);
-			cli_vertex_pair("--junction", argc, argv, &o.js.a, &o.js.b);
+		case O_JUNCTION: case O_INDEX: case O_RANDOM: case O_LIST: case O_NET:
+			cli_jsel(&o.js, lo[li].name, 0,
+			         "choose one of --junction, --index, --random, --list, --network", argc, argv);
 			break;
-		case O_INDEX: set_sel(&o, JSEL_INDEX); o.js.index = cli_long("--index", optarg, 0, 2000000000); break;
-		case O_RANDOM: set_sel(&o, JSEL_RANDOM); o.js.count = cli_long("--random", optarg, 1, 2000000000); break;
-		case O_LIST: set_sel(&o, JSEL_LIST); o.js.path = optarg; break;
-		case O_NET: set_sel(&o, JSEL_ALL); break;
 		case O_RATE: o.a.tau = 1 / cli_double_range("--rate", optarg, 1e-9, 1e9); break;
 		case O_TAU: o.a.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
 		case O_GAMMA0: o.a.gamma0 = cli_double_range("--gamma0", optarg, -1e6, 1e6); break;

@@ -66,13 +66,6 @@ struct opts {
 	const char *input;
 };
 
-static void set_sel(struct opts *o, jsel_kind kind)
-{
-	if (o->js.kind != JSEL_NONE && o->js.kind != kind)
-		cli_usage_error("choose one of --junction, --index, --random, --all");
-	o->js.kind = kind;
-}
-
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_P0 = 256, O_KA, O_STEP, O_RANGE, O_LMIN, O_NOBACK, O_PRED, O_TOL,
@@ -112,20 +105,11 @@ static struct opts parse(int argc, char **argv)
 		                          c == O_PRED || c == O_ALGO || c == O_MAXEVAL || c == O_NOPC))
 			sweep_opt = lo[li].name;
 		switch (c) {
-		case O_JUNCTION:
-			set_sel(&o, JSEL_PAIR);
-			cli_vertex_pair("--junction", argc, argv, &o.js.a, &o.js.b);
-			break;
-		case O_INDEX:
-			set_sel(&o, JSEL_INDEX);
-			o.js.index = cli_long("--index", optarg, 0, 2000000000);
-			break;
-		case O_RANDOM:
-			set_sel(&o, JSEL_RANDOM);
-			o.js.count = cli_long("--random", optarg, 1, 2000000000);
+		case O_JUNCTION: case O_INDEX: case O_RANDOM: case O_ALL:
+			cli_jsel(&o.js, lo[li].name, 1, "choose one of --junction, --index, --random, --all",
+			         argc, argv);
 			break;
 		case O_SEED: o.js.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_ALL: set_sel(&o, JSEL_ALL); break;
 		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
 		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
 		case O_STEP: o.fl.step = cli_double_range("--step", optarg, 1e-9, 10); break;

@@ -47,7 +47,6 @@ static const char help[] =
 
 struct opts {
 	jsel js;
-	int nsel;
 	double *rate, *gamma0;
 	int nrate, ngamma0;
 	int has_p0, has_ka, dense, network;
@@ -55,13 +54,6 @@ struct opts {
 	stab_opts so;
 	const char *input;
 };
-
-static void set_sel(struct opts *o, jsel_kind kind)
-{
-	if (o->nsel++ > 0)
-		cli_usage_error("choose one of --junction, --index, --list, --all");
-	o->js.kind = kind;
-}
 
 static struct opts parse(int argc, char **argv)
 {
@@ -86,21 +78,15 @@ static struct opts parse(int argc, char **argv)
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
-	struct opts o = { .js.kind = JSEL_ALL };
+	struct opts o = { .js.kind = JSEL_NONE };
 	stab_opts_init(&o.so);
-	int c;
-	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+	int c, li;
+	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
 		switch (c) {
-		case O_JUNCTION:
-			set_sel(&o, JSEL_PAIR);
-			cli_vertex_pair("--junction", argc, argv, &o.js.a, &o.js.b);
+		case O_JUNCTION: case O_INDEX: case O_LIST: case O_ALL:
+			cli_jsel(&o.js, lo[li].name, 0, "choose one of --junction, --index, --list, --all",
+			         argc, argv);
 			break;
-		case O_INDEX:
-			set_sel(&o, JSEL_INDEX);
-			o.js.index = cli_long("--index", optarg, 0, 2000000000);
-			break;
-		case O_LIST: set_sel(&o, JSEL_LIST); o.js.path = optarg; break;
-		case O_ALL: set_sel(&o, JSEL_ALL); break;
 		case O_RATE:
 		case O_TAU:
 			if (o.rate)
@@ -137,8 +123,10 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("give the rates 1/tau_m with --rate or --tau");
 	if (o.network && o.gamma0 == NULL)
 		cli_usage_error("--network needs --gamma0");
-	if (o.network && o.nsel > 0)
+	if (o.network && o.js.kind != JSEL_NONE)
 		cli_usage_error("--network makes every junction active: no junction options");
+	if (o.js.kind == JSEL_NONE)
+		o.js.kind = JSEL_ALL;
 	if (argc - optind > 1)
 		cli_usage_error("at most one input file");
 	o.input = optind < argc ? argv[optind] : NULL;
