@@ -68,11 +68,10 @@ static const char help[] =
 struct opts {
 	jsel js;   /* --network: JSEL_ALL, every junction active at once */
 	act_opts a;
-	int has_p0, has_ka, has_perturb, has_t1, has_scheme;
-	double p0, ka, time, perturb, every, trace_every;
-	unsigned long seed;
+	act_job_opts jo;
+	int has_p0, has_ka, has_t1, has_scheme;
+	double p0, ka;
 	const char *trace, *events, *input;
-	int *watch, nwatch;
 };
 
 static struct opts parse(int argc, char **argv)
@@ -113,7 +112,7 @@ static struct opts parse(int argc, char **argv)
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
-	struct opts o = { .time = 1000, .seed = 1, .trace_every = 1 };
+	struct opts o = { .jo = { .perturb = -1, .seed = 1, .t_end = 1000, .trace_every = 1 } };
 	act_opts_init(&o.a);
 	int c, li;
 	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
@@ -128,9 +127,9 @@ static struct opts parse(int argc, char **argv)
 		case O_SIGMA: o.a.sigma = cli_double_range("--sigma", optarg, 0, 100); break;
 		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
 		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
-		case O_TIME: o.time = cli_double_range("--time", optarg, 0, 1e12); break;
-		case O_PERTURB: o.perturb = cli_double_range("--perturb", optarg, 0, 0.1); o.has_perturb = 1; break;
-		case O_SEED: o.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
+		case O_TIME: o.jo.t_end = cli_double_range("--time", optarg, 0, 1e12); break;
+		case O_PERTURB: o.jo.perturb = cli_double_range("--perturb", optarg, 0, 0.1); break;
+		case O_SEED: o.jo.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
 		case O_SCHEME:
 			if (act_scheme_parse(optarg, &o.a.scheme) != MESH_OK)
 				cli_usage_error("--scheme: bdf, euler or split, not '%s'", optarg);
@@ -145,10 +144,10 @@ static struct opts parse(int argc, char **argv)
 		case O_T1AGAIN: o.a.t1_again = cli_double_range("--t1-again", optarg, 0, 0.999); break;
 		case O_COLLAPSE: o.a.l_collapse = cli_double_range("--collapse", optarg, 1e-9, 0.5); break;
 		case O_TRACE: o.trace = optarg; break;
-		case O_TRACEEVERY: o.trace_every = cli_double_range("--trace-every", optarg, 1e-9, 1e12); break;
+		case O_TRACEEVERY: o.jo.trace_every = cli_double_range("--trace-every", optarg, 1e-9, 1e12); break;
 		case O_EVENTS: o.events = optarg; break;
-		case O_WATCH: o.watch = cli_int_list("--watch", optarg, 0, INT_MAX, &o.nwatch); break;
-		case O_EVERY: o.every = cli_double_range("--every", optarg, 1e-9, 1e12); break;
+		case O_WATCH: o.jo.watch = cli_int_list("--watch", optarg, 0, INT_MAX, &o.jo.nwatch); break;
+		case O_EVERY: o.jo.every = cli_double_range("--every", optarg, 1e-9, 1e12); break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
 		default: cli_bad_option(argv, c);
@@ -159,7 +158,8 @@ static struct opts parse(int argc, char **argv)
 	if (argc - optind > 1)
 		cli_usage_error("at most one input file");
 	o.input = optind < argc ? argv[optind] : NULL;
-	o.js.seed = o.seed;
+	o.js.seed = o.jo.seed;
+	o.jo.name = cli_input_name(o.input);
 	const int network = o.js.kind == JSEL_ALL;
 	act_opts_mode(&o.a, network, o.has_t1, o.has_scheme);
 	if (o.a.t1_length > 0 && !(o.a.t1_new < o.a.t1_length))
@@ -167,9 +167,9 @@ static struct opts parse(int argc, char **argv)
 	if (o.a.sigma > 0 && o.a.scheme == ACT_BDF)
 		cli_usage_error("--scheme bdf has no noise; use --scheme euler with --sigma");
 	int multi = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_LIST;
-	if (o.nwatch && !network)
+	if (o.jo.nwatch && !network)
 		cli_usage_error("--watch is for --network");
-	if (multi && o.every > 0)
+	if (multi && o.jo.every > 0)
 		cli_usage_error("--every writes frames of one run: not with --random or --list");
 	if (multi && o.trace && !cli_one_d(o.trace))
 		cli_usage_error("--trace with several junctions needs one %%d in the file name");
@@ -190,7 +190,7 @@ struct out {
 
 static void progress(const struct out *u, double t, long nstep, long nt1)
 {
-	fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, t, u->o->time, nstep,
+	fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, t, u->o->jo.t_end, nstep,
 		nt1);
 }
 
@@ -234,7 +234,7 @@ static void on_begin(void *data, act *a, mesh *m)
 	if (u->o->trace) {
 		u->trace = cli_open_numbered(u->o->trace, u->jfile);
 		char cols[4096];
-		act_trace_columns(cols, sizeof cols, u->j, u->o->watch, u->o->nwatch);
+		act_trace_columns(cols, sizeof cols, u->j, u->o->jo.watch, u->o->jo.nwatch);
 		cli_table_header_run(u->trace, m, cols);
 	}
 	if (u->o->events) {
@@ -254,14 +254,10 @@ static void close_out(FILE *f, const char *name)
 static act_result run(const struct opts *o, mesh *m, const model *p, int j, int jfile)
 {
 	struct out u = { .o = o, .j = j, .jfile = jfile, .tty = isatty(2) };
-	act_io io = { on_begin, on_row, o->every > 0 ? on_frame : NULL, on_step, &u };
-	act_job_opts jo = { .perturb = o->has_perturb ? o->perturb : -1, .seed = o->seed,
-			    .t_end = o->time, .trace_every = o->trace_every, .every = o->every,
-			    .name = cli_input_name(o->input), .watch = o->watch,
-			    .nwatch = o->nwatch };
+	act_io io = { on_begin, on_row, o->jo.every > 0 ? on_frame : NULL, on_step, &u };
 	act_result r;
 	mesh_error err;
-	if (act_job(m, p, &o->a, &jo, j, &cli_stop, &io, &r, &err) != MESH_OK)
+	if (act_job(m, p, &o->a, &o->jo, j, &cli_stop, &io, &r, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	if (r.why == ACT_END_NONFINITE)
 		cli_warn("%s", err.msg);
@@ -281,7 +277,7 @@ static int one(const struct opts *o, mesh *m, const model *p, int j)
 	char note[512];
 	act_note(note, sizeof note, &o->a, &r);
 	cli_history_note(m, note);
-	if (o->every > 0)
+	if (o->jo.every > 0)
 		printf("# %s final t %.10g\n", cli_name, r.t_end);
 	cli_write_mesh(m);
 	if (r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE) {
