@@ -496,6 +496,39 @@ void cli_jsel(jsel *js, const char *name, int again, const char *choose, int arg
 		js->path = optarg;
 }
 
+model cli_model(const mesh *m, const cli_model_opts *mo)
+{
+	model p = model_from_mesh(m);
+	if (mo->has_p0)
+		p.p0 = mo->p0;
+	if (mo->has_ka)
+		p.ka = mo->ka;
+	return p;
+}
+
+void cli_model_set(mesh *m, const cli_model_opts *mo)
+{
+	if ((mo->has_p0 && mesh_param_set(m, "p0", mo->p0) != MESH_OK) ||
+	    (mo->has_ka && mesh_param_set(m, "ka", mo->ka) != MESH_OK))
+		cli_die(EXIT_INPUT, "out of memory");
+}
+
+void cli_progress_init(cli_progress *pr)
+{
+	*pr = (cli_progress){ .tty = isatty(2) };
+}
+
+int cli_progress_due(cli_progress *pr, int force)
+{
+	if (!pr->tty)
+		return 0;
+	time_t now = time(NULL);
+	if (!force && now == pr->last)
+		return 0;
+	pr->last = now;
+	return 1;
+}
+
 const char *cli_stop_name(void)
 {
 	return cli_stop == SIGINT ? "SIGINT" : cli_stop == SIGTERM ? "SIGTERM" : "a signal";

@@ -6,6 +6,9 @@
 
 #include <signal.h>
 #include <stdio.h>
+#include <time.h>
+
+#include "geom.h"
 #include "mesh.h"
 #include "select.h"
 
@@ -62,6 +65,26 @@ int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n);
 /* The two vertex ids of an option like --junction A B inside a getopt_long
  * loop: A is optarg, B the next argument (optind moves past it). */
 void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b);
+
+/* Model parameters given on the command line (--p0, --ka), which
+ * override the mesh's: cli_model gives the model of m with them,
+ * cli_model_set writes them into m's params (exit 1 if out of memory). */
+typedef struct {
+	int has_p0, has_ka;
+	double p0, ka;
+} cli_model_opts;
+model cli_model(const mesh *m, const cli_model_opts *mo);
+void cli_model_set(mesh *m, const cli_model_opts *mo);
+
+/* A progress line on stderr, only when it is a terminal: init looks
+ * (isatty), due says whether to write one now: at most once a second,
+ * or when force is set. */
+typedef struct {
+	int tty;
+	time_t last;
+} cli_progress;
+void cli_progress_init(cli_progress *pr);
+int cli_progress_due(cli_progress *pr, int force);
 
 /* A junction option (select.h) inside a getopt_long loop, by its long
  * name: "junction" A B (JSEL_PAIR; B is the next argument), "index" K,

@@ -5,8 +5,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 #include "active.h"
 #include "cli.h"
@@ -69,8 +67,8 @@ struct opts {
 	jsel js;   /* --network: JSEL_ALL, every junction active at once */
 	act_opts a;
 	act_job_opts jo;
-	int has_p0, has_ka, has_t1, has_scheme;
-	double p0, ka;
+	cli_model_opts mo;
+	int has_t1, has_scheme;
 	const char *trace, *events, *input;
 };
 
@@ -125,8 +123,8 @@ static struct opts parse(int argc, char **argv)
 		case O_TAU: o.a.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
 		case O_GAMMA0: o.a.gamma0 = cli_double_range("--gamma0", optarg, -1e6, 1e6); break;
 		case O_SIGMA: o.a.sigma = cli_double_range("--sigma", optarg, 0, 100); break;
-		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
+		case O_P0: o.mo.p0 = cli_param("--p0", optarg, "p0"); o.mo.has_p0 = 1; break;
+		case O_KA: o.mo.ka = cli_param("--ka", optarg, "ka"); o.mo.has_ka = 1; break;
 		case O_TIME: o.jo.t_end = cli_double_range("--time", optarg, 0, 1e12); break;
 		case O_PERTURB: o.jo.perturb = cli_double_range("--perturb", optarg, 0, 0.1); break;
 		case O_SEED: o.jo.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
@@ -184,8 +182,7 @@ struct out {
 	int j;              /* the junction traced (-1 in network mode) */
 	int jfile;          /* the number in the file names (-1: as given) */
 	FILE *trace, *events;
-	int tty;
-	time_t last_progress;
+	cli_progress pr;
 };
 
 static void progress(const struct out *u, double t, long nstep, long nt1)
@@ -197,10 +194,8 @@ static void progress(const struct out *u, double t, long nstep, long nt1)
 static void on_step(void *data, const act *a)
 {
 	struct out *u = data;
-	time_t now = time(NULL);
-	if (!u->tty || now == u->last_progress)
+	if (!cli_progress_due(&u->pr, 0))
 		return;
-	u->last_progress = now;
 	act_counts c;
 	act_counts_get(a, &c);
 	progress(u, c.t, c.nstep, c.nt1);
@@ -253,7 +248,8 @@ static void close_out(FILE *f, const char *name)
 /* Run m with junction j active (-1: network), outputs numbered jfile. */
 static act_result run(const struct opts *o, mesh *m, const model *p, int j, int jfile)
 {
-	struct out u = { .o = o, .j = j, .jfile = jfile, .tty = isatty(2) };
+	struct out u = { .o = o, .j = j, .jfile = jfile };
+	cli_progress_init(&u.pr);
 	act_io io = { on_begin, on_row, o->jo.every > 0 ? on_frame : NULL, on_step, &u };
 	act_result r;
 	mesh_error err;
@@ -261,7 +257,7 @@ static act_result run(const struct opts *o, mesh *m, const model *p, int j, int 
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	if (r.why == ACT_END_NONFINITE)
 		cli_warn("%s", err.msg);
-	if (u.tty) {
+	if (u.pr.tty) {
 		progress(&u, r.c.t, r.c.nstep, r.c.nt1);
 		fputc('\n', stderr);
 	}
@@ -317,9 +313,7 @@ int main(int argc, char **argv)
 	cli_init("tis-active", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 	mesh *m = cli_read_one(o.input);
-	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
-	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
-		cli_die(EXIT_INPUT, "out of memory");
+	cli_model_set(m, &o.mo);
 	cli_history(m);
 	model p = model_from_mesh(m);
 	cli_catch_signals();

@@ -4,8 +4,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 
 #include "cli.h"
@@ -59,8 +57,7 @@ static const char help[] =
 
 struct opts {
 	jsel js;
-	int has_p0, has_ka;
-	double p0, ka;
+	cli_model_opts mo;
 	fl_opts fl;
 	int relax, linear, threads;
 	const char *input;
@@ -110,8 +107,8 @@ static struct opts parse(int argc, char **argv)
 			         argc, argv);
 			break;
 		case O_SEED: o.js.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
+		case O_P0: o.mo.p0 = cli_param("--p0", optarg, "p0"); o.mo.has_p0 = 1; break;
+		case O_KA: o.mo.ka = cli_param("--ka", optarg, "ka"); o.mo.has_ka = 1; break;
 		case O_STEP: o.fl.step = cli_double_range("--step", optarg, 1e-9, 10); break;
 		case O_RANGE: o.fl.range = cli_double_range("--range", optarg, 0, 100); break;
 		case O_LMIN: o.fl.lmin = cli_double_range("--lmin", optarg, 1e-9, 100); break;
@@ -163,8 +160,7 @@ static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 struct out {
 	const mesh *m;
 	double p0;
-	int tty;
-	time_t last_progress;
+	cli_progress pr;
 	int werr;          /* errno of a failed write to stdout */
 };
 
@@ -184,13 +180,8 @@ static int write_curve(void *data, int j, const fl_point *pts, int n)
 static void progress(void *data, int done, int count)
 {
 	struct out *u = data;
-	if (!u->tty)
-		return;
-	time_t now = time(NULL);
-	if (now != u->last_progress || done == count) {
-		u->last_progress = now;
+	if (cli_progress_due(&u->pr, done == count))
 		fprintf(stderr, "\r%s: %d/%d curves   ", cli_name, done, count);
-	}
 }
 
 /* Bring the mesh to rest at p if it is not, so that l0 is a rest length. */
@@ -217,11 +208,7 @@ int main(int argc, char **argv)
 	double worst = 0;
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		nmesh++;
-		model p = model_from_mesh(m);
-		if (o.has_p0)
-			p.p0 = o.p0;
-		if (o.has_ka)
-			p.ka = o.ka;
+		model p = cli_model(m, &o.mo);
 		relax_input(m, &p, &o);
 		int count;
 		int *sel = select_junctions(&o, m, &count);
@@ -242,12 +229,13 @@ int main(int argc, char **argv)
 			continue;
 		}
 
-		struct out u = { .m = m, .p0 = p.p0, .tty = isatty(2) };
+		struct out u = { .m = m, .p0 = p.p0 };
+		cli_progress_init(&u.pr);
 		fl_sweeps_io io = { write_curve, progress, &u };
 		fl_sweeps_result r;
 		mesh_error err;
 		int st = fl_sweeps(m, &p, &o.fl, sel, count, o.threads, &cli_stop, &io, &r, &err);
-		if (u.tty)
+		if (u.pr.tty)
 			fputc('\n', stderr);
 		if (st == MESH_EIO) {
 			errno = u.werr;

@@ -49,8 +49,8 @@ struct opts {
 	jsel js;
 	double *rate, *gamma0;
 	int nrate, ngamma0;
-	int has_p0, has_ka, dense, network;
-	double p0, ka;
+	int dense, network;
+	cli_model_opts mo;
 	stab_opts so;
 	const char *input;
 };
@@ -100,8 +100,8 @@ static struct opts parse(int argc, char **argv)
 			free(o.gamma0);
 			o.gamma0 = cli_double_list_above("--gamma0", optarg, &o.ngamma0, 0, 0);
 			break;
-		case O_P0: o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case O_P0: o.mo.p0 = cli_double_range("--p0", optarg, 0, 100); o.mo.has_p0 = 1; break;
+		case O_KA: o.mo.ka = cli_double_range("--ka", optarg, 0, 1e12); o.mo.has_ka = 1; break;
 		case O_DENSE: o.dense = 1; break;
 		case O_NETWORK: o.network = 1; break;
 		case O_FTOL: o.so.ftol = cli_double_range("--ftol", optarg, 1e-16, 1e6); break;
@@ -200,11 +200,7 @@ int main(int argc, char **argv)
 	int nmesh = 0, unstable = 0, nneg = 0;
 	double p0neg = 0;
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
-		model p = model_from_mesh(m);
-		if (o.has_p0)
-			p.p0 = o.p0;
-		if (o.has_ka)
-			p.ka = o.ka;
+		model p = cli_model(m, &o.mo);
 		nmesh++;
 		int k = analyse(m, &p, &o);
 		if (k > 0 && unstable++ == 0) {
