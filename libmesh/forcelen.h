@@ -187,8 +187,8 @@ typedef struct {
  * them), each junction to whichever thread is free, and pass every whole
  * curve to io->curve in the order of sel, as soon as it and all before it
  * are done: what the caller writes does not depend on the threads, and
- * memory is held for a few curves, not for all.  When *stop becomes
- * nonzero the sweeps end early, and the whole curves after the first
+ * memory is held for a few curves, not for all.  When *stop (stop may
+ * be NULL) becomes nonzero the sweeps end early, and the whole curves after the first
  * unfinished one are passed last.  MESH_OK (points that missed the
  * tolerance, a stop: see r), MESH_ENOMEM, MESH_EIO if io->curve asked to
  * stop, or a sweep's error ("junction J: ..."). */
