@@ -236,6 +236,9 @@ void cli_write_error(const char *what)
 {
 	if (errno == EPIPE)
 		cli_die(EXIT_NOCONV, "%s closed early (broken pipe): output incomplete", what);
+	/* a stream whose error flag an earlier write set no longer knows why */
+	if (errno == 0)
+		cli_die(EXIT_INPUT, "%s: write error", what);
 	cli_die(EXIT_INPUT, "%s: write error: %s", what, strerror(errno));
 }
 
