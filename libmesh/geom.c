@@ -425,29 +425,48 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			*g2max = q2;
 		return W;
 	}
-	const int *restrict jc = m->jc;
-	const double *restrict len = w->len;
 	const double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
-	const v2d *restrict vec = (const v2d *)w->vec;
 	for (int v = 0; v < m->nv; v++)
 		g2[v] = (v2d){ 0, 0 };
-	for (int j = 0; j < nj; j++) {
-		int L = jc[2 * j], R = jc[2 * j + 1];
+	/* One induction variable, o = 8 j, the byte offset of junction j's
+	 * pair in jc, kjo and jv and of its length (2 o that of its vector):
+	 * x86 scales an index by 8 at most, so j itself would need a shift
+	 * and a copy per junction for vec.  Without tensions the line
+	 * tension is pw[L] + pw[R] alone: adding 0.0 would only turn a -0
+	 * into +0, which changes no sum of the gradient (each starts at +0
+	 * and so never becomes -0), and costs an instruction. */
+	const char *restrict jcb = (const char *)m->jc, *restrict lenb = (const char *)w->len;
+	const char *restrict vecb = (const char *)w->vec;
+	const char *restrict job = form == 0 ? (const char *)m->kjo : (const char *)m->jv;
+	const char *restrict dgb = (const char *)dg;
+	/* The sums read through gl and written through gs, the same address:
+	 * GCC, not seeing that, addresses each access as base + offset
+	 * instead of adding the two into a register first (2 instructions
+	 * less per junction). */
+	char *gs = (char *)g2, *gl = gs;
+#ifdef __GNUC__
+	__asm__("" : "+r"(gl));
+#endif
+	const size_t oend = 8 * (size_t)nj;
+	for (size_t o = 0; o < oend; o += 8) {
+		int L = *(const int *)(jcb + o), R = *(const int *)(jcb + o + 4);
 		size_t oa, ob;
 		if (form == 0) {
-			oa = m->kjo[2 * j];
-			ob = m->kjo[2 * j + 1];
+			oa = *(const unsigned *)(job + o);
+			ob = *(const unsigned *)(job + o + 4);
 		} else {
-			oa = 16 * (size_t)m->jv[2 * j];
-			ob = 16 * (size_t)m->jv[2 * j + 1];
+			oa = 16 * (size_t)*(const int *)(job + o);
+			ob = 16 * (size_t)*(const int *)(job + o + 4);
 		}
-		v2d d = form == 1 ? jvec(m, r2, j, 1) : vec[j];
-		double t = (pw[L] + pw[R] + (tens ? dg[j] : 0.0)) / len[j];
+		v2d d = form == 1 ? jvec(m, r2, (int)(o / 8), 1) : *(const v2d *)(vecb + 2 * o);
+		double s = pw[L] + pw[R];
+		if (tens)
+			s += *(const double *)(dgb + o);
+		double t = s / *(const double *)(lenb + o);
 		double x = aw[L] - aw[R];
 		v2d perp = (v2d){ x, x } * (v2d){ 0.5, -0.5 } * swap1(d), tan = t * d;
-		v2d *ga = (v2d *)((char *)g2 + oa), *gb = (v2d *)((char *)g2 + ob);
-		*ga += perp - tan;
-		*gb += perp + tan;
+		*(v2d *)(gs + oa) = *(const v2d *)(gl + oa) + (perp - tan);
+		*(v2d *)(gs + ob) = *(const v2d *)(gl + ob) + (perp + tan);
 	}
 	if (g2max)
 		*g2max = simd ? gmax4(m->nv, g2) : gmax2(m->nv, g2);
