@@ -10,6 +10,12 @@
 #ifdef __SSE3__
 #include <pmmintrin.h>
 #endif
+/* The kernel is also built for AVX2 and picked at run time
+ * (energy_ws_simd), where the default target lacks it. */
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(__AVX2__)
+#define ENERGY_HAVE_AVX2 1
+#include <immintrin.h>   /* declares the AVX builtins (pass_lengths4) */
+#endif
 
 model model_from_mesh(const mesh *m)
 {
@@ -226,11 +232,13 @@ typedef long long v4i __attribute__((vector_size(32)));
 
 static inline __attribute__((always_inline)) double gmax4(int nv, const v2d *g)
 {
-	const v4d *g4 = (const v4d *)g;
+	/* a pointer, not g4[v / 2]: the halving and its sign extension cost
+	 * 4 instructions per iteration */
+	const v4d *g4 = (const v4d *)g, *g4e = g4 + 2 * (nv / 4);
 	v4d f2 = { 0, 0, 0, 0 };
-	int v = 0;
-	for (; v + 3 < nv; v += 4) {
-		v4d p = g4[v / 2] * g4[v / 2], q = g4[v / 2 + 1] * g4[v / 2 + 1];
+	int v = 4 * (nv / 4);
+	for (; g4 < g4e; g4 += 2) {
+		v4d p = g4[0] * g4[0], q = g4[1] * g4[1];
 #ifdef __clang__
 		v4d s = __builtin_shufflevector(p, q, 0, 4, 2, 6) + __builtin_shufflevector(p, q, 1, 5, 3, 7);
 #else
@@ -332,6 +340,39 @@ pass_lengths(const mesh *m, const v2d *r2, energy_ws *w, int j0, int j1, const i
 	}
 }
 
+#ifdef ENERGY_HAVE_AVX2
+/* Pass 1 in cache for the AVX2 build: four junctions' square roots as one
+ * vsqrtpd, which costs what one of two lanes does (bench/RESULTS.md):
+ * the divider, not the instructions, sets pass 1's time.  The same
+ * correctly rounded operation per lane, so the same lengths.  A builtin,
+ * not _mm256_sqrt_pd: the portable build inlines this too (as dead
+ * code), which a target("avx") intrinsic forbids; the ABI note on a
+ * 256-bit vector return (-Wpsabi) concerns calls, of which there are
+ * none. */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+static inline __attribute__((always_inline)) void
+pass_lengths4(const mesh *m, const v2d *r2, energy_ws *w, const int form)
+{
+	double *restrict len = w->len;
+	v2d *restrict vec = (v2d *)w->vec;
+	const int nj = m->nj;
+	int j = 0;
+	for (; j + 3 < nj; j += 4) {
+		v2d d0 = jvec(m, r2, j, form), d1 = jvec(m, r2, j + 1, form);
+		v2d d2 = jvec(m, r2, j + 2, form), d3 = jvec(m, r2, j + 3, form);
+		vec[j] = d0;
+		vec[j + 1] = d1;
+		vec[j + 2] = d2;
+		vec[j + 3] = d3;
+		v2d q01 = hsum2(d0 * d0, d1 * d1), q23 = hsum2(d2 * d2, d3 * d3);
+		*(v4d *)(len + j) = __builtin_ia32_sqrtpd256((v4d){ q01[0], q01[1], q23[0], q23[1] });
+	}
+	pass_lengths(m, r2, w, j, nj, form);
+}
+#pragma GCC diagnostic pop
+#endif
+
 /* Pass 2, cells k0 <= k < k1: dW/dA and dW/dP into cc, their energies
  * added to W in cell order.  Two corners per iteration: no copy of the
  * previous corner, half the loop tests. */
@@ -366,17 +407,16 @@ pass_cells(const mesh *m, const v2d *r2, const model *p, energy_ws *w, int k0, i
 	return W;
 }
 
-/* Pass 2 of a tissue in cache (forms 0 and 3): pass_cells' numbers, in
- * a loop without remainder.  A cell with an even number of corners
- * starts the pairs at its first corner, whose vector from itself is
- * exactly (+0, +0) (r + c - r for a finite r and a zero offset c): its
- * product with the initial prev adds +0 to the sums, which are +0 then,
- * and the perimeter starts at +0 instead of the first corner's length,
- * so every sum takes the same values in the same order as pass_cells'.  That drops the
- * trip-count arithmetic and a remainder branch that follows no pattern
- * (cells' sides alternate at random).  One induction variable o, the
- * corner's byte offset in kco and cj (4 o in cimg); the vertex's byte
- * offset from kco (form 0), so no shift per corner. */
+/* Pass 2 of a tissue in cache (forms 0 and 3): pass_cells' operations
+ * in its order, with one induction variable o, the corner's byte offset
+ * in kco and cj (4 o in cimg), the vertex's byte offset from kco (form
+ * 0: no shift per corner) and the arrays in locals (GCC reloaded
+ * m->cimg from the stack for every cell).  Tried and not kept: starting
+ * a cell of even size at its first corner (exactly (+0, +0)), which
+ * drops the remainder and the trip-count arithmetic, 4 % fewer
+ * instructions per step, but makes the cell's two sums one addition
+ * longer, and was 1-4 % slower (bench/RESULTS.md): the chains of
+ * additions, not the instructions, set this pass's time. */
 static inline __attribute__((always_inline)) double
 pass_cells_cache(const mesh *m, const v2d *r2, const model *p, energy_ws *w, double W,
                  const int form)
@@ -386,32 +426,31 @@ pass_cells_cache(const mesh *m, const v2d *r2, const model *p, energy_ws *w, dou
 	const char *restrict cjb = (const char *)m->cj;
 	const char *restrict cob = form == 0 ? (const char *)m->kco : (const char *)m->cv;
 	const char *restrict cimgb = (const char *)m->cimg;
-	double *restrict len = w->len;
+	const double *restrict len = w->len;
 	double *restrict aw = w->cc, *restrict pw = w->cc + nc;
 	const double ka = p->ka, p0 = p->p0;
-	static const double one0[2] = { 0.0, 1.0 };
 	size_t os = 4 * (size_t)coff[0];
 #define CORNER_OFF(o) (form == 0 ? (size_t)*(const unsigned *)(cob + (o)) : \
                        16 * (size_t)*(const int *)(cob + (o)))
 #define CORNER_LEN(o) len[*(const int *)(cjb + (o))]
 #define CORNER(o) (at(r2, CORNER_OFF(o)) + *(const v2d *)(cimgb + 4 * (o)) - x0)
 	for (int k = 0; k < nc; k++) {
-		size_t oe = 4 * (size_t)coff[k + 1];
-		size_t odd = (oe - os) & 4;
+		size_t oe = 4 * (size_t)coff[k + 1], o = os + 4;
 		v2d x0 = at(r2, CORNER_OFF(os)), acc = { 0, 0 }, prev = { 0, 0 };
-		/* len times 1 or 0 (exact: len is finite and >= 0), as GCC
-		 * makes a branch of any select here */
-		double per = len[*(const int *)(cjb + os)] * *(const double *)((const char *)one0 + 2 * odd);
-		size_t o = os + odd;
-		do {
+		double per = CORNER_LEN(os);
+		for (; o + 4 < oe; o += 8) {
 			v2d q = CORNER(o);
 			acc += prev * swap1(q);
 			per += CORNER_LEN(o);
 			prev = CORNER(o + 4);
 			acc += q * swap1(prev);
 			per += CORNER_LEN(o + 4);
-			o += 8;
-		} while (o < oe);
+		}
+		if (o < oe) {
+			v2d q = CORNER(o);
+			acc += prev * swap1(q);
+			per += CORNER_LEN(o);
+		}
 		W += cell_factor(acc, per, ka, p0, aw + k, pw + k);
 		os = oe;
 	}
@@ -477,7 +516,12 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 {
 	const int nj = m->nj;
 	const v2d *r2 = (const v2d *)r;
-	pass_lengths(m, r2, w, 0, nj, form);
+#ifdef ENERGY_HAVE_AVX2
+	if (simd && (form == 0 || form == 3))
+		pass_lengths4(m, r2, w, form);
+	else
+#endif
+		pass_lengths(m, r2, w, 0, nj, form);
 	double W = form == 0 || form == 3 ? pass_cells_cache(m, r2, p, w, 0.0, form) :
 	           pass_cells(m, r2, p, w, 0, m->nc, 0.0, form);
 	if (grad == NULL)
@@ -524,6 +568,11 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			ob = 16 * (size_t)*(const int *)(job + o + 4);
 		}
 		v2d d = form == 1 ? jvec(m, r2, (int)(o / 8), 1) : *(const v2d *)(vecb + 2 * o);
+#ifdef __GNUC__
+		/* in a register: GCC would read it twice from memory, and the
+		 * loads, not the instructions, are what this loop waits on */
+		__asm__("" : "+x"(d));
+#endif
 		double s = pw[L] + pw[R];
 		if (tens)
 			s += *(const double *)(dgb + o);
@@ -568,8 +617,7 @@ static double energy_portable(const mesh *m, const double *r, const model *p,
  * step's instructions in cache (bench/RESULTS.md).  FMA is not enabled
  * (target "avx2" does not include it, and ISO C mode does not contract),
  * so both builds do the same operations: the same bits. */
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(__AVX2__)
-#define ENERGY_HAVE_AVX2 1
+#ifdef ENERGY_HAVE_AVX2
 __attribute__((target("avx2"))) static double
 energy_avx2(const mesh *m, const double *r, const model *p,
             const double *dg, double *grad, double *g2max, energy_ws *w)
