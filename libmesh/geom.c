@@ -76,9 +76,12 @@ struct energy_ws {
 	double *len;  /* per junction: its length */
 	double *vec;  /* 2 per junction: its vector; NULL on a large tissue,
 	                 where the gradient pass computes it again */
-	double *cc;   /* per cell dW/dA, then per cell dW/dP: apart, so that
-	                 the gradient pass indexes them by cell id without a
-	                 shift (2 instructions less per cell it reads) */
+	double *cc;   /* in cache (forms 0, 3): per cell the pair (dW/dA,
+	                 dW/dP), which the gradient pass reads with one load
+	                 each from its cells' byte offsets kjc (loads, not
+	                 instructions, set that pass's time); forms 1, 2: per
+	                 cell dW/dA, then per cell dW/dP, apart, so that the
+	                 pass indexes them by cell id without a shift */
 };
 
 energy_ws *energy_ws_alloc(const mesh *m)
@@ -427,7 +430,7 @@ pass_cells_cache(const mesh *m, const v2d *r2, const model *p, energy_ws *w, dou
 	const char *restrict cob = form == 0 ? (const char *)m->kco : (const char *)m->cv;
 	const char *restrict cimgb = (const char *)m->cimg;
 	const double *restrict len = w->len;
-	double *restrict aw = w->cc, *restrict pw = w->cc + nc;
+	double *restrict cc = w->cc;
 	const double ka = p->ka, p0 = p->p0;
 	size_t os = 4 * (size_t)coff[0];
 #define CORNER_OFF(o) (form == 0 ? (size_t)*(const unsigned *)(cob + (o)) : \
@@ -451,7 +454,7 @@ pass_cells_cache(const mesh *m, const v2d *r2, const model *p, energy_ws *w, dou
 			acc += prev * swap1(q);
 			per += CORNER_LEN(o);
 		}
-		W += cell_factor(acc, per, ka, p0, aw + k, pw + k);
+		W += cell_factor(acc, per, ka, p0, cc + 2 * k, cc + 2 * k + 1);
 		os = oe;
 	}
 #undef CORNER
@@ -535,10 +538,11 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 		return W;
 	}
 	const double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
+	const v2d *restrict cc2 = (const v2d *)w->cc;  /* forms 0, 3 */
 	for (int v = 0; v < m->nv; v++)
 		g2[v] = (v2d){ 0, 0 };
 	/* One induction variable, o = 8 j, the byte offset of junction j's
-	 * pair in jc, kjo and jv and of its length (2 o that of its vector):
+	 * pair in jc, kjc, kjo and jv and of its length (2 o that of its vector):
 	 * x86 scales an index by 8 at most, so j itself would need a shift
 	 * and a copy per junction for vec.  Without tensions the line
 	 * tension is pw[L] + pw[R] alone: adding 0.0 would only turn a -0
@@ -547,6 +551,7 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 	const char *restrict jcb = (const char *)m->jc, *restrict lenb = (const char *)w->len;
 	const char *restrict vecb = (const char *)w->vec;
 	const char *restrict job = form == 0 ? (const char *)m->kjo : (const char *)m->jv;
+	const char *restrict jcob = (const char *)m->kjc;
 	const char *restrict dgb = (const char *)dg;
 	/* The sums read through gl and written through gs, the same address:
 	 * GCC, not seeing that, addresses each access as base + offset
@@ -558,7 +563,17 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 #endif
 	const size_t oend = 8 * (size_t)nj;
 	for (size_t o = 0; o < oend; o += 8) {
-		int L = *(const int *)(jcb + o), R = *(const int *)(jcb + o + 4);
+		int L = 0, R = 0;
+		size_t oL, oR;
+		if (form == 0) {
+			oL = *(const unsigned *)(jcob + o);
+			oR = *(const unsigned *)(jcob + o + 4);
+		} else {
+			L = *(const int *)(jcb + o);
+			R = *(const int *)(jcb + o + 4);
+			oL = 16 * (size_t)L;
+			oR = 16 * (size_t)R;
+		}
 		size_t oa, ob;
 		if (form == 0) {
 			oa = *(const unsigned *)(job + o);
@@ -573,12 +588,27 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 		 * loads, not the instructions, are what this loop waits on */
 		__asm__("" : "+x"(d));
 #endif
-		double s = pw[L] + pw[R];
-		if (tens)
-			s += *(const double *)(dgb + o);
-		double t = s / *(const double *)(lenb + o);
-		double x = aw[L] - aw[R];
-		v2d perp = (v2d){ x, x } * (v2d){ 0.5, -0.5 } * swap1(d), tan = t * d;
+		double s, l = *(const double *)(lenb + o);
+		v2d xx, tt;
+		if (form == 1) {
+			s = pw[L] + pw[R];
+			if (tens)
+				s += *(const double *)(dgb + o);
+			double x = aw[L] - aw[R];
+			xx = (v2d){ x, x };
+			tt = (v2d){ s / l, s / l };
+		} else {
+			/* (aw_L - aw_R, pw_L + pw_R) from two loads: a + (-b) is
+			 * a - b, bit for bit; the quotient broadcast as a divpd
+			 * of the broadcast operands, the same number */
+			v2d c = at(cc2, oL) + at(cc2, oR) * (v2d){ -1, 1 };
+			s = c[1];
+			if (tens)
+				s += *(const double *)(dgb + o);
+			xx = (v2d){ c[0], c[0] };
+			tt = (v2d){ s, s } / (v2d){ l, l };
+		}
+		v2d perp = xx * (v2d){ 0.5, -0.5 } * swap1(d), tan = tt * d;
 		*(v2d *)(gs + oa) = *(const v2d *)(gl + oa) + (perp - tan);
 		*(v2d *)(gs + ob) = *(const v2d *)(gl + ob) + (perp + tan);
 	}

@@ -78,13 +78,16 @@ typedef struct mesh {
 	double kimg[2 * 64];
 	double kx[8], ky[8];  /* the distinct offsets per axis; code = ix + 8 iy */
 	int nkx, nky;
-	int kok;           /* kcv, kjv, kjo, kco and kimg are valid; else the
+	int kok;           /* kcv, kjv, kjo, kco, kjc and kimg are valid; else the
 	                      kernel reads cv, jv, cimg, jimg */
 	unsigned *kjo;     /* 2 per junction: 16 jv[2j], 16 jv[2j+1], the byte
 	                      offsets of its vertices' (x, y) pairs, which the
 	                      kernel in cache indexes with, no shift needed */
 	unsigned *kco;     /* per corner: 16 cv[i], its vertex's byte offset,
 	                      for the same reason */
+	unsigned *kjc;     /* 2 per junction: 16 jc[2j], 16 jc[2j+1], the byte
+	                      offsets of its cells' (dW/dA, dW/dP) pairs in the
+	                      kernel's workspace */
 
 	int nparam;
 	mesh_param *param;
@@ -136,7 +139,7 @@ int mesh_write(FILE *f, const mesh *m);
 #define MESH_KMASK ((1u << MESH_KSHIFT) - 1)
 enum { MESH_KFIRST_A = 1, MESH_KFIRST_B = 2, MESH_KLAST_A = 4, MESH_KLAST_B = 8 };
 
-/* Derive kcv, kjv, kjo, kco and kimg from cv, jv, cimg and jimg (mesh_build,
+/* Derive kcv, kjv, kjo, kco, kjc and kimg from cv, jv, jc, cimg and jimg (mesh_build,
  * mesh_wrap, mesh_t1 and mesh_order_spatial do): code that changes those
  * arrays directly calls it afterwards.  When the ids or the offsets do not
  * fit (2^MESH_KSHIFT vertices, 8 distinct offsets per axis) or memory is
