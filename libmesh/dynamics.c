@@ -26,10 +26,6 @@ struct dyn {
 	ou_noise *noise;      /* created on the first noisy step */
 	energy_ws *ws;
 	double *f;            /* 2*nv forces */
-	double *rn;           /* 2*nv: the fused move's coordinates, swapped
-	                         with m->r when its step is taken; NULL where
-	                         the kernel does not fuse (energy_ws_moves) */
-	int fuse;             /* try the fused move: the last step was dt_max */
 	double *jd;           /* 3*nj: dx, dy, l at the start of the step */
 	double *l2;           /* nj: squared lengths at the start of the step */
 	double *lprev;        /* nj: l2 at the start of the previous step */
@@ -121,9 +117,6 @@ int dyn_alloc(mesh *m, const model *p, const dyn_opts *o, unsigned long seed,
 	d->fsettle_next = -1;
 	d->ws = energy_ws_alloc(m);
 	d->f = malloc(2 * (size_t)m->nv * sizeof *d->f);
-	int fuse = d->ws && energy_ws_moves(d->ws, m);
-	d->rn = fuse ? malloc(2 * (size_t)m->nv * sizeof *d->rn) : NULL;
-	d->fuse = 1;
 	d->jd = malloc(3 * nj * sizeof *d->jd);
 	d->lprev = malloc(nj * sizeof *d->lprev);
 	d->l2 = malloc(nj * sizeof *d->l2);
@@ -131,7 +124,7 @@ int dyn_alloc(mesh *m, const model *p, const dyn_opts *o, unsigned long seed,
 	d->cand = malloc(nj * sizeof *d->cand);
 	d->incand = calloc(nj, 1);
 	d->fresh = calloc(nj, 1);
-	if (!d->ws || !d->f || (fuse && !d->rn) || !d->jd || !d->lprev || !d->l2 || !d->ldot || !d->cand ||
+	if (!d->ws || !d->f || !d->jd || !d->lprev || !d->l2 || !d->ldot || !d->cand ||
 	    !d->incand || !d->fresh) {
 		dyn_free(d);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
@@ -147,7 +140,6 @@ void dyn_free(dyn *d)
 	ou_free(d->noise);
 	energy_ws_free(d->ws);
 	free(d->f);
-	free(d->rn);
 	free(d->jd);
 	free(d->lprev);
 	free(d->l2);
@@ -524,7 +516,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	if (o.sigma > 0 && d->noise == NULL && (d->noise = ou_alloc(d->seed)) == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	double *restrict f = d->f, *r = m->r;
+	double *restrict f = d->f, *restrict r = m->r;
 	const double thr2 = o.t1_length * o.t1_length;
 	d->have_dprev = 0;
 	/* the options may have changed since the last run */
@@ -588,16 +580,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		double *dg = m->dg;
 		/* f is the gradient of W + sum dg l: the force with its sign flipped */
 		double f2;
-		/* the move fused into the force pass at dt_max, taken
-		 * speculatively: kept if the step is dt_max (not cut by dr_max,
-		 * not the stage's last), else the plain move below from r and
-		 * f, which the pass leaves intact (as the checks before the
-		 * move need them); tried again after a step of dt_max */
-		int moved = 0;
-		if (d->rn && d->fuse && o.dt_max < t_end - d->c.t)
-			mesh_energy_force_move(m, r, &d->p, dg, f, &f2, o.dt_max, d->rn, &moved, d->ws);
-		else
-			mesh_energy_force(m, r, &d->p, dg, f, &f2, d->ws);
+		mesh_energy_force(m, r, &d->p, dg, f, &f2, d->ws);
 		if (!isfinite(f2))
 			return mesh_error_set(err, 0, MESH_EDOM, "forces became non-finite at step %ld, "
 			                      "t = %.10g", d->c.nstep, d->c.t);
@@ -682,14 +665,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 					                      a, b, d->c.nstep, d->c.t);
 			}
 		}
-		if (moved && dt == o.dt_max && !last) {
-			m->r = d->rn;
-			d->rn = r;
-			r = m->r;
-		} else {
-			mesh_euler_move(d->ws, nv, r, f, dt);
-		}
-		d->fuse = dt == o.dt_max;
+		mesh_euler_move(d->ws, nv, r, f, dt);
 		d->disp += dt * fmax;
 		d->ldisp += dt * fmax;
 		if (dg) {

@@ -364,29 +364,20 @@ pass_cells(const mesh *m, const v2d *r2, const model *p, energy_ws *w, int k0, i
  * and none to find the largest force, 48 bytes per vertex less from
  * memory, for about 10 instructions more per junction, which in cache
  * cost more than they save.  Masks instead of branches, as first and last
- * follow no pattern the branch predictor learns.  mv: the Euler move
- * rn = r - dt g as well, stored at every junction of the vertex, so that
- * the last store, at its last junction, holds the complete sum: no
- * branch, and no move pass (48 bytes per vertex) after. */
+ * follow no pattern the branch predictor learns. */
 static inline __attribute__((always_inline)) void
 pass_grad_codes(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2d *g2,
-                int j0, int j1, double *g2max, double *q2p, v2d *restrict rn, double dt,
-                const int tens, const int mv)
+                int j0, int j1, double *g2max, double *q2p, const int tens)
 {
 	const int *restrict jc = m->jc;
 	const unsigned *restrict kjv = m->kjv;
-	const v2d *restrict kimg = (const v2d *)m->kimg;
 	const double *restrict len = w->len;
 	const double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
-	const v2d dt2 = { dt, dt };
 	double q2 = *q2p;
 	for (int j = j0; j < j1; j++) {
 		int L = jc[2 * j], R = jc[2 * j + 1];
-		unsigned u = kjv[2 * j];
-		int a = (int)(u & MESH_KMASK), b = (int)(kjv[2 * j + 1] & MESH_KMASK);
-		/* jvec's expression, its corners loaded once for the move too */
-		v2d ra = r2[a], rb = r2[b];
-		v2d d = rb - ra + kimg[u >> MESH_KSHIFT];
+		int a = (int)(kjv[2 * j] & MESH_KMASK), b = (int)(kjv[2 * j + 1] & MESH_KMASK);
+		v2d d = jvec(m, r2, j, 2);
 		long long fl = kjv[2 * j + 1] >> MESH_KSHIFT;
 		double t = (pw[L] + pw[R] + (tens ? dg[j] : 0.0)) / len[j];
 		double x = aw[L] - aw[R];
@@ -397,10 +388,6 @@ pass_grad_codes(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2
 		v2i keep_b = (v2i){ 0, 0 } - ((fl & MESH_KFIRST_B) == 0);
 		v2d gb = (v2d)((v2i)g2[b] & keep_b) + (perp + tan);
 		g2[b] = gb;
-		if (mv) {
-			rn[a] = ra - dt2 * ga;
-			rn[b] = rb - dt2 * gb;
-		}
 		if (g2max) {
 			v2d qa = ga * ga, qb = gb * gb;
 			double sa = fl & MESH_KLAST_A ? qa[0] + qa[1] : 0.0;
@@ -421,8 +408,8 @@ pass_grad_codes(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2
  * tests it). */
 static inline __attribute__((always_inline)) double
 energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
-              double *grad, double *g2max, double *rn, double dt, energy_ws *w, const int form,
-              const int tens, const int simd)
+              double *grad, double *g2max, energy_ws *w, const int form, const int tens,
+              const int simd)
 {
 	const int nj = m->nj;
 	const v2d *r2 = (const v2d *)r;
@@ -433,10 +420,7 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 	v2d *g2 = (v2d *)grad;
 	if (form == 2) {
 		double q2 = 0;
-		if (rn)
-			pass_grad_codes(m, r2, dg, w, g2, 0, nj, g2max, &q2, (v2d *)rn, dt, tens, 1);
-		else
-			pass_grad_codes(m, r2, dg, w, g2, 0, nj, g2max, &q2, NULL, 0.0, tens, 0);
+		pass_grad_codes(m, r2, dg, w, g2, 0, nj, g2max, &q2, tens);
 		if (g2max)
 			*g2max = q2;
 		return W;
@@ -471,29 +455,27 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 }
 
 /* The kernel's form for this tissue and workspace, its tensions a
- * constant: each of the eight combinations compiled on its own.  rn (the
- * fused move) only in form 2, where the caller has checked it is taken. */
+ * constant: each of the eight combinations compiled on its own. */
 static inline __attribute__((always_inline)) double
 energy_select(const mesh *m, const double *r, const model *p, const double *dg,
-              double *grad, double *g2max, double *rn, double dt, energy_ws *w, const int simd)
+              double *grad, double *g2max, energy_ws *w, const int simd)
 {
 	int form = w->vec ? (m->kok ? 0 : 3) : m->kok ? 2 : 1;
 	if (dg == NULL)
-		return form == 0 ? energy_kernel(m, r, p, NULL, grad, g2max, NULL, 0, w, 0, 0, simd) :
-		       form == 2 ? energy_kernel(m, r, p, NULL, grad, g2max, rn, dt, w, 2, 0, simd) :
-		       form == 3 ? energy_kernel(m, r, p, NULL, grad, g2max, NULL, 0, w, 3, 0, simd) :
-		                   energy_kernel(m, r, p, NULL, grad, g2max, NULL, 0, w, 1, 0, simd);
-	return form == 0 ? energy_kernel(m, r, p, dg, grad, g2max, NULL, 0, w, 0, 1, simd) :
-	       form == 2 ? energy_kernel(m, r, p, dg, grad, g2max, rn, dt, w, 2, 1, simd) :
-	       form == 3 ? energy_kernel(m, r, p, dg, grad, g2max, NULL, 0, w, 3, 1, simd) :
-	                   energy_kernel(m, r, p, dg, grad, g2max, NULL, 0, w, 1, 1, simd);
+		return form == 0 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 0, 0, simd) :
+		       form == 2 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 2, 0, simd) :
+		       form == 3 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 3, 0, simd) :
+		                   energy_kernel(m, r, p, NULL, grad, g2max, w, 1, 0, simd);
+	return form == 0 ? energy_kernel(m, r, p, dg, grad, g2max, w, 0, 1, simd) :
+	       form == 2 ? energy_kernel(m, r, p, dg, grad, g2max, w, 2, 1, simd) :
+	       form == 3 ? energy_kernel(m, r, p, dg, grad, g2max, w, 3, 1, simd) :
+	                   energy_kernel(m, r, p, dg, grad, g2max, w, 1, 1, simd);
 }
 
 static double energy_portable(const mesh *m, const double *r, const model *p,
-                              const double *dg, double *grad, double *g2max, double *rn,
-                              double dt, energy_ws *w)
+                              const double *dg, double *grad, double *g2max, energy_ws *w)
 {
-	return energy_select(m, r, p, dg, grad, g2max, rn, dt, w, 0);
+	return energy_select(m, r, p, dg, grad, g2max, w, 0);
 }
 
 /* The same source built for AVX2 as well, and picked at run time: the
@@ -506,9 +488,9 @@ static double energy_portable(const mesh *m, const double *r, const model *p,
 #define ENERGY_HAVE_AVX2 1
 __attribute__((target("avx2"))) static double
 energy_avx2(const mesh *m, const double *r, const model *p,
-            const double *dg, double *grad, double *g2max, double *rn, double dt, energy_ws *w)
+            const double *dg, double *grad, double *g2max, energy_ws *w)
 {
-	return energy_select(m, r, p, dg, grad, g2max, rn, dt, w, 1);
+	return energy_select(m, r, p, dg, grad, g2max, w, 1);
 }
 #endif
 
@@ -571,34 +553,14 @@ int energy_ws_simd(energy_ws *w, int level)
 	return w->simd;
 }
 
-/* rn NULL: no move. */
-static double energy_force_move(const mesh *m, const double *r, const model *p, const double *dg,
-                                double *grad, double *g2max, double *rn, double dt, energy_ws *w)
-{
-#ifdef ENERGY_HAVE_AVX2
-	if (w->simd)
-		return energy_avx2(m, r, p, dg, grad, g2max, rn, dt, w);
-#endif
-	return energy_portable(m, r, p, dg, grad, g2max, rn, dt, w);
-}
-
 double mesh_energy_force(const mesh *m, const double *r, const model *p,
                          const double *dg, double *grad, double *g2max, energy_ws *w)
 {
-	return energy_force_move(m, r, p, dg, grad, g2max, NULL, 0, w);
-}
-
-int energy_ws_moves(const energy_ws *w, const mesh *m)
-{
-	return w->vec == NULL && m->kok && m->nv > 0;
-}
-
-double mesh_energy_force_move(const mesh *m, const double *r, const model *p, const double *dg,
-                              double *grad, double *g2max, double dt, double *rn, int *moved,
-                              energy_ws *w)
-{
-	*moved = energy_ws_moves(w, m);
-	return energy_force_move(m, r, p, dg, grad, g2max, *moved ? rn : NULL, dt, w);
+#ifdef ENERGY_HAVE_AVX2
+	if (w->simd)
+		return energy_avx2(m, r, p, dg, grad, g2max, w);
+#endif
+	return energy_portable(m, r, p, dg, grad, g2max, w);
 }
 
 double mesh_energy_tension(const mesh *m, const double *r, const model *p,

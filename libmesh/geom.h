@@ -69,20 +69,6 @@ double mesh_energy_tension(const mesh *m, const double *r, const model *p,
 double mesh_energy_force(const mesh *m, const double *r, const model *p,
                          const double *dg, double *grad, double *g2max, energy_ws *w);
 
-/* Whether mesh_energy_force_move fuses the move on m with w: on a tissue
- * out of cache (where the kernel's gradient pass completes each vertex's
- * sum in the pass), with the packed codes (m->kok). */
-int energy_ws_moves(const energy_ws *w, const mesh *m);
-
-/* mesh_energy_force, and where energy_ws_moves(w, m), the explicit Euler
- * move of every vertex, rn = r - dt grad (2 nv doubles, overlapping
- * neither r nor grad), in the same pass: the same numbers as
- * mesh_euler_move on a copy of r, without a second pass over the tissue.
- * *moved is 1 if rn was written, 0 if not (rn untouched). */
-double mesh_energy_force_move(const mesh *m, const double *r, const model *p, const double *dg,
-                              double *grad, double *g2max, double dt, double *rn, int *moved,
-                              energy_ws *w);
-
 /* The explicit Euler move r -= dt f over nv vertices (r and f 2 nv
  * doubles, not overlapping), with w's build of the kernel: the same
  * numbers as the plain loop. */
