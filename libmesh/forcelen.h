@@ -21,6 +21,7 @@
 #define TIS_FORCELEN_H
 
 #include <signal.h>
+#include <stdio.h>
 
 #include "geom.h"
 #include "mesh.h"
@@ -130,5 +131,69 @@ typedef struct {
 
 /* The linear response of junction j of the mesh lr was made from. */
 int fl_linear_a1(const fl_linear *lr, const mesh *m, int j, fl_lin_result *res);
+
+/* ---- what tis-forcelen does with a mesh (forcelen_job.c) ---- */
+
+/* Bring m to rest at p, so that l0 is a rest length: if its largest
+ * vertex force (rr->f0) is above ftol and relax is set, mesh_relax to
+ * ftol (rr->relaxed; rr->fres the force reached, rr->converged whether
+ * that is within ftol).  MESH_ENOMEM; MESH_EINVAL if relaxing would
+ * invert a cell (m unchanged). */
+typedef struct {
+	double f0, fres;
+	int relaxed, converged;
+} fl_rest_report;
+int fl_rest(mesh *m, const model *p, double ftol, int relax, fl_rest_report *rr,
+            mesh_error *err);
+
+/* How many of the n junctions sel of m are no longer than o->lmin: they
+ * have no inward legs. */
+int fl_count_short(const mesh *m, const int *sel, int n, const fl_opts *o);
+
+/* The tables' columns and rows: the points of a curve of junction j of m
+ * at p0 (p0 j a b l0 dir l f W fres, l0 at m->r), and the linear response
+ * of each of the n junctions sel of the mesh lr was made from (p0 j a b
+ * l0 a1 nzero nneg).  Numbers as the suite's tables print them. */
+#define FL_CURVE_COLUMNS "p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres"
+#define FL_LINEAR_COLUMNS "p0\tj\ta\tb\tl0\ta1\tnzero\tnneg"
+void fl_curve_write(FILE *f, double p0, const mesh *m, int j, const fl_point *pts, int n);
+void fl_linear_write(FILE *f, const fl_linear *lr, const mesh *m, double p0, const int *sel,
+                     int n);
+
+/* Callbacks of fl_sweeps, either NULL; both are called with fl_sweeps'
+ * lock held, never two at once.  curve: the n points of junction j's
+ * whole curve (an interrupted sweep is never passed), curves in the order
+ * of sel; nonzero asks to stop: no further curve is passed or started (a
+ * sweep in progress runs to its end unless *stop is set too).  progress:
+ * after curves were passed, done of count taken care of. */
+typedef struct {
+	int (*curve)(void *data, int j, const fl_point *pts, int n);
+	void (*progress)(void *data, int done, int count);
+	void *data;
+} fl_sweeps_io;
+
+/* What fl_sweeps passed: whole curves, their points, how many of those
+ * missed the force tolerance and the largest residual among them (0 if
+ * none). */
+typedef struct {
+	int written, points, missed;
+	double worst;
+} fl_sweeps_result;
+
+#define FL_MAXTHREADS 64
+
+/* Sweep the count junctions sel of m (fl_sweep each; m is only read) on
+ * up to threads threads (at most FL_MAXTHREADS, the calling one among
+ * them), each junction to whichever thread is free, and pass every whole
+ * curve to io->curve in the order of sel, as soon as it and all before it
+ * are done: what the caller writes does not depend on the threads, and
+ * memory is held for a few curves, not for all.  When *stop (stop may
+ * be NULL) becomes nonzero the sweeps end early, and the whole curves after the first
+ * unfinished one are passed last.  MESH_OK (points that missed the
+ * tolerance, a stop: see r), MESH_ENOMEM, MESH_EIO if io->curve asked to
+ * stop, or a sweep's error ("junction J: ..."). */
+int fl_sweeps(const mesh *m, const model *p, const fl_opts *o, const int *sel, int count,
+              int threads, const volatile sig_atomic_t *stop, const fl_sweeps_io *io,
+              fl_sweeps_result *r, mesh_error *err);
 
 #endif

@@ -7,6 +7,15 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
+#ifdef __SSE3__
+#include <pmmintrin.h>
+#endif
+/* The kernel is also built for AVX2 and picked at run time
+ * (energy_ws_simd), where the default target lacks it. */
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(__AVX2__)
+#define ENERGY_HAVE_AVX2 1
+#include <immintrin.h>   /* declares the AVX builtins (pass_lengths4) */
+#endif
 
 model model_from_mesh(const mesh *m)
 {
@@ -67,9 +76,12 @@ struct energy_ws {
 	double *len;  /* per junction: its length */
 	double *vec;  /* 2 per junction: its vector; NULL on a large tissue,
 	                 where the gradient pass computes it again */
-	double *cc;   /* per cell dW/dA, then per cell dW/dP: apart, so that
-	                 the gradient pass indexes them by cell id without a
-	                 shift (2 instructions less per cell it reads) */
+	double *cc;   /* in cache (forms 0, 3): per cell the pair (dW/dA,
+	                 dW/dP), which the gradient pass reads with one load
+	                 each from its cells' byte offsets kjc (loads, not
+	                 instructions, set that pass's time); forms 1, 2: per
+	                 cell dW/dA, then per cell dW/dP, apart, so that the
+	                 pass indexes them by cell id without a shift */
 };
 
 energy_ws *energy_ws_alloc(const mesh *m)
@@ -127,7 +139,13 @@ void mesh_junction_vectors(const mesh *m, const double *r, double *jd)
  * dW/dP into *fa, *fp, and the cell's energy. */
 static inline double cell_factor(v2d acc, double per, double ka, double p0, double *fa, double *fp)
 {
+#ifdef __SSE3__
+	/* acc[0] - acc[1] in one instruction (GCC otherwise copies and
+	 * shuffles: 2) */
+	double a = 0.5 * _mm_cvtsd_f64(_mm_hsub_pd((__m128d)acc, (__m128d)acc));
+#else
 	double a = 0.5 * (acc[0] - acc[1]);
+#endif
 	double da = a - 1, dp = per - p0;
 	*fa = 2 * ka * da;
 	*fp = 2 * dp;
@@ -217,11 +235,13 @@ typedef long long v4i __attribute__((vector_size(32)));
 
 static inline __attribute__((always_inline)) double gmax4(int nv, const v2d *g)
 {
-	const v4d *g4 = (const v4d *)g;
+	/* a pointer, not g4[v / 2]: the halving and its sign extension cost
+	 * 4 instructions per iteration */
+	const v4d *g4 = (const v4d *)g, *g4e = g4 + 2 * (nv / 4);
 	v4d f2 = { 0, 0, 0, 0 };
-	int v = 0;
-	for (; v + 3 < nv; v += 4) {
-		v4d p = g4[v / 2] * g4[v / 2], q = g4[v / 2 + 1] * g4[v / 2 + 1];
+	int v = 4 * (nv / 4);
+	for (; g4 < g4e; g4 += 2) {
+		v4d p = g4[0] * g4[0], q = g4[1] * g4[1];
 #ifdef __clang__
 		v4d s = __builtin_shufflevector(p, q, 0, 4, 2, 6) + __builtin_shufflevector(p, q, 1, 5, 3, 7);
 #else
@@ -323,6 +343,39 @@ pass_lengths(const mesh *m, const v2d *r2, energy_ws *w, int j0, int j1, const i
 	}
 }
 
+#ifdef ENERGY_HAVE_AVX2
+/* Pass 1 in cache for the AVX2 build: four junctions' square roots as one
+ * vsqrtpd, which costs what one of two lanes does (bench/RESULTS.md):
+ * the divider, not the instructions, sets pass 1's time.  The same
+ * correctly rounded operation per lane, so the same lengths.  A builtin,
+ * not _mm256_sqrt_pd: the portable build inlines this too (as dead
+ * code), which a target("avx") intrinsic forbids; the ABI note on a
+ * 256-bit vector return (-Wpsabi) concerns calls, of which there are
+ * none. */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+static inline __attribute__((always_inline)) void
+pass_lengths4(const mesh *m, const v2d *r2, energy_ws *w, const int form)
+{
+	double *restrict len = w->len;
+	v2d *restrict vec = (v2d *)w->vec;
+	const int nj = m->nj;
+	int j = 0;
+	for (; j + 3 < nj; j += 4) {
+		v2d d0 = jvec(m, r2, j, form), d1 = jvec(m, r2, j + 1, form);
+		v2d d2 = jvec(m, r2, j + 2, form), d3 = jvec(m, r2, j + 3, form);
+		vec[j] = d0;
+		vec[j + 1] = d1;
+		vec[j + 2] = d2;
+		vec[j + 3] = d3;
+		v2d q01 = hsum2(d0 * d0, d1 * d1), q23 = hsum2(d2 * d2, d3 * d3);
+		*(v4d *)(len + j) = __builtin_ia32_sqrtpd256((v4d){ q01[0], q01[1], q23[0], q23[1] });
+	}
+	pass_lengths(m, r2, w, j, nj, form);
+}
+#pragma GCC diagnostic pop
+#endif
+
 /* Pass 2, cells k0 <= k < k1: dW/dA and dW/dP into cc, their energies
  * added to W in cell order.  Two corners per iteration: no copy of the
  * previous corner, half the loop tests. */
@@ -354,6 +407,59 @@ pass_cells(const mesh *m, const v2d *r2, const model *p, energy_ws *w, int k0, i
 		}
 		W += cell_factor(acc, per, ka, p0, aw + k, pw + k);
 	}
+	return W;
+}
+
+/* Pass 2 of a tissue in cache (forms 0 and 3): pass_cells' operations
+ * in its order, with one induction variable o, the corner's byte offset
+ * in kco and cj (4 o in cimg), the vertex's byte offset from kco (form
+ * 0: no shift per corner) and the arrays in locals (GCC reloaded
+ * m->cimg from the stack for every cell).  Tried and not kept: starting
+ * a cell of even size at its first corner (exactly (+0, +0)), which
+ * drops the remainder and the trip-count arithmetic, 4 % fewer
+ * instructions per step, but makes the cell's two sums one addition
+ * longer, and was 1-4 % slower (bench/RESULTS.md): the chains of
+ * additions, not the instructions, set this pass's time. */
+static inline __attribute__((always_inline)) double
+pass_cells_cache(const mesh *m, const v2d *r2, const model *p, energy_ws *w, double W,
+                 const int form)
+{
+	const int nc = m->nc;
+	const int *restrict coff = m->coff;
+	const char *restrict cjb = (const char *)m->cj;
+	const char *restrict cob = form == 0 ? (const char *)m->kco : (const char *)m->cv;
+	const char *restrict cimgb = (const char *)m->cimg;
+	const double *restrict len = w->len;
+	double *restrict cc = w->cc;
+	const double ka = p->ka, p0 = p->p0;
+	size_t os = 4 * (size_t)coff[0];
+#define CORNER_OFF(o) (form == 0 ? (size_t)*(const unsigned *)(cob + (o)) : \
+                       16 * (size_t)*(const int *)(cob + (o)))
+#define CORNER_LEN(o) len[*(const int *)(cjb + (o))]
+#define CORNER(o) (at(r2, CORNER_OFF(o)) + *(const v2d *)(cimgb + 4 * (o)) - x0)
+	for (int k = 0; k < nc; k++) {
+		size_t oe = 4 * (size_t)coff[k + 1], o = os + 4;
+		v2d x0 = at(r2, CORNER_OFF(os)), acc = { 0, 0 }, prev = { 0, 0 };
+		double per = CORNER_LEN(os);
+		for (; o + 4 < oe; o += 8) {
+			v2d q = CORNER(o);
+			acc += prev * swap1(q);
+			per += CORNER_LEN(o);
+			prev = CORNER(o + 4);
+			acc += q * swap1(prev);
+			per += CORNER_LEN(o + 4);
+		}
+		if (o < oe) {
+			v2d q = CORNER(o);
+			acc += prev * swap1(q);
+			per += CORNER_LEN(o);
+		}
+		W += cell_factor(acc, per, ka, p0, cc + 2 * k, cc + 2 * k + 1);
+		os = oe;
+	}
+#undef CORNER
+#undef CORNER_LEN
+#undef CORNER_OFF
 	return W;
 }
 
@@ -413,8 +519,14 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 {
 	const int nj = m->nj;
 	const v2d *r2 = (const v2d *)r;
-	pass_lengths(m, r2, w, 0, nj, form);
-	double W = pass_cells(m, r2, p, w, 0, m->nc, 0.0, form);
+#ifdef ENERGY_HAVE_AVX2
+	if (simd && (form == 0 || form == 3))
+		pass_lengths4(m, r2, w, form);
+	else
+#endif
+		pass_lengths(m, r2, w, 0, nj, form);
+	double W = form == 0 || form == 3 ? pass_cells_cache(m, r2, p, w, 0.0, form) :
+	           pass_cells(m, r2, p, w, 0, m->nc, 0.0, form);
 	if (grad == NULL)
 		return W;
 	v2d *g2 = (v2d *)grad;
@@ -425,29 +537,80 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			*g2max = q2;
 		return W;
 	}
-	const int *restrict jc = m->jc;
-	const double *restrict len = w->len;
 	const double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
-	const v2d *restrict vec = (const v2d *)w->vec;
+	const v2d *restrict cc2 = (const v2d *)w->cc;  /* forms 0, 3 */
 	for (int v = 0; v < m->nv; v++)
 		g2[v] = (v2d){ 0, 0 };
-	for (int j = 0; j < nj; j++) {
-		int L = jc[2 * j], R = jc[2 * j + 1];
+	/* One induction variable, o = 8 j, the byte offset of junction j's
+	 * pair in jc, kjc, kjo and jv and of its length (2 o that of its vector):
+	 * x86 scales an index by 8 at most, so j itself would need a shift
+	 * and a copy per junction for vec.  Without tensions the line
+	 * tension is pw[L] + pw[R] alone: adding 0.0 would only turn a -0
+	 * into +0, which changes no sum of the gradient (each starts at +0
+	 * and so never becomes -0), and costs an instruction. */
+	const char *restrict jcb = (const char *)m->jc, *restrict lenb = (const char *)w->len;
+	const char *restrict vecb = (const char *)w->vec;
+	const char *restrict job = form == 0 ? (const char *)m->kjo : (const char *)m->jv;
+	const char *restrict jcob = (const char *)m->kjc;
+	const char *restrict dgb = (const char *)dg;
+	/* The sums read through gl and written through gs, the same address:
+	 * GCC, not seeing that, addresses each access as base + offset
+	 * instead of adding the two into a register first (2 instructions
+	 * less per junction). */
+	char *gs = (char *)g2, *gl = gs;
+#ifdef __GNUC__
+	__asm__("" : "+r"(gl));
+#endif
+	const size_t oend = 8 * (size_t)nj;
+	for (size_t o = 0; o < oend; o += 8) {
+		int L = 0, R = 0;
+		size_t oL, oR;
+		if (form == 0) {
+			oL = *(const unsigned *)(jcob + o);
+			oR = *(const unsigned *)(jcob + o + 4);
+		} else {
+			L = *(const int *)(jcb + o);
+			R = *(const int *)(jcb + o + 4);
+			oL = 16 * (size_t)L;
+			oR = 16 * (size_t)R;
+		}
 		size_t oa, ob;
 		if (form == 0) {
-			oa = m->kjo[2 * j];
-			ob = m->kjo[2 * j + 1];
+			oa = *(const unsigned *)(job + o);
+			ob = *(const unsigned *)(job + o + 4);
 		} else {
-			oa = 16 * (size_t)m->jv[2 * j];
-			ob = 16 * (size_t)m->jv[2 * j + 1];
+			oa = 16 * (size_t)*(const int *)(job + o);
+			ob = 16 * (size_t)*(const int *)(job + o + 4);
 		}
-		v2d d = form == 1 ? jvec(m, r2, j, 1) : vec[j];
-		double t = (pw[L] + pw[R] + (tens ? dg[j] : 0.0)) / len[j];
-		double x = aw[L] - aw[R];
-		v2d perp = (v2d){ x, x } * (v2d){ 0.5, -0.5 } * swap1(d), tan = t * d;
-		v2d *ga = (v2d *)((char *)g2 + oa), *gb = (v2d *)((char *)g2 + ob);
-		*ga += perp - tan;
-		*gb += perp + tan;
+		v2d d = form == 1 ? jvec(m, r2, (int)(o / 8), 1) : *(const v2d *)(vecb + 2 * o);
+#ifdef __GNUC__
+		/* in a register: GCC would read it twice from memory, and the
+		 * loads, not the instructions, are what this loop waits on */
+		__asm__("" : "+x"(d));
+#endif
+		double s, l = *(const double *)(lenb + o);
+		v2d xx, tt;
+		if (form == 1) {
+			s = pw[L] + pw[R];
+			if (tens)
+				s += *(const double *)(dgb + o);
+			double x = aw[L] - aw[R];
+			xx = (v2d){ x, x };
+			tt = (v2d){ s / l, s / l };
+		} else {
+			/* (aw_L - aw_R, pw_L + pw_R) from two loads: a + (-b) is
+			 * a - b, bit for bit; the quotient broadcast as a divpd
+			 * of the broadcast operands, the same number */
+			v2d c = at(cc2, oL) + at(cc2, oR) * (v2d){ -1, 1 };
+			s = c[1];
+			if (tens)
+				s += *(const double *)(dgb + o);
+			xx = (v2d){ c[0], c[0] };
+			tt = (v2d){ s, s } / (v2d){ l, l };
+		}
+		v2d perp = xx * (v2d){ 0.5, -0.5 } * swap1(d), tan = tt * d;
+		*(v2d *)(gs + oa) = *(const v2d *)(gl + oa) + (perp - tan);
+		*(v2d *)(gs + ob) = *(const v2d *)(gl + ob) + (perp + tan);
 	}
 	if (g2max)
 		*g2max = simd ? gmax4(m->nv, g2) : gmax2(m->nv, g2);
@@ -484,8 +647,7 @@ static double energy_portable(const mesh *m, const double *r, const model *p,
  * step's instructions in cache (bench/RESULTS.md).  FMA is not enabled
  * (target "avx2" does not include it, and ISO C mode does not contract),
  * so both builds do the same operations: the same bits. */
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(__AVX2__)
-#define ENERGY_HAVE_AVX2 1
+#ifdef ENERGY_HAVE_AVX2
 __attribute__((target("avx2"))) static double
 energy_avx2(const mesh *m, const double *r, const model *p,
             const double *dg, double *grad, double *g2max, energy_ws *w)

@@ -37,9 +37,11 @@ static void free_derived(mesh *m)
 	free(m->kcv);
 	free(m->kjv);
 	free(m->kjo);
+	free(m->kco);
+	free(m->kjc);
 	m->cimg = m->jimg = NULL;
 	m->cj = m->jv = m->jc = NULL;
-	m->kcv = m->kjv = m->kjo = NULL;
+	m->kcv = m->kjv = m->kjo = m->kco = m->kjc = NULL;
 	m->kok = 0;
 	m->nj = 0;
 }
@@ -86,6 +88,8 @@ static int kcode_junction(mesh *m, int j)
 	m->kjv[2 * j + 1] = (unsigned)m->jv[2 * j + 1] | fl << MESH_KSHIFT;
 	m->kjo[2 * j] = 16u * (unsigned)m->jv[2 * j];
 	m->kjo[2 * j + 1] = 16u * (unsigned)m->jv[2 * j + 1];
+	m->kjc[2 * j] = 16u * (unsigned)m->jc[2 * j];
+	m->kjc[2 * j + 1] = 16u * (unsigned)m->jc[2 * j + 1];
 	return c >= 0;
 }
 
@@ -116,6 +120,7 @@ void mesh_kernel_update(mesh *m, int c0, int c1, const int *js, int n)
 	for (int i = c0; i < c1 && m->kok; i++) {
 		int c = kcode(m, m->cimg + 2 * (size_t)i);
 		m->kcv[i] = (unsigned)m->cv[i] | (unsigned)(c < 0 ? 0 : c) << MESH_KSHIFT;
+		m->kco[i] = 16u * (unsigned)m->cv[i];
 		m->kok = c >= 0;
 	}
 	/* a vertex that moved to another junction end has all its junctions
@@ -140,12 +145,16 @@ void mesh_kernel_build(mesh *m)
 	free(m->kcv);
 	free(m->kjv);
 	free(m->kjo);
+	free(m->kco);
+	free(m->kjc);
 	m->kcv = malloc((nk ? nk : 1) * sizeof *m->kcv);
+	m->kco = malloc((nk ? nk : 1) * sizeof *m->kco);
+	m->kjc = malloc(2 * (nj ? nj : 1) * sizeof *m->kjc);
 	m->kjv = calloc(2 * (nj ? nj : 1), sizeof *m->kjv);
 	m->kjo = malloc(2 * (nj ? nj : 1) * sizeof *m->kjo);
 	unsigned char *seen = calloc((size_t)m->nv + 1, 1);
 	m->nkx = m->nky = 0;
-	m->kok = m->kcv && m->kjv && m->kjo && seen && m->cimg && m->jimg && (unsigned)m->nv <= MESH_KMASK + 1u;
+	m->kok = m->kcv && m->kjv && m->kjo && m->kco && m->kjc && seen && m->cimg && m->jimg && (unsigned)m->nv <= MESH_KMASK + 1u;
 	for (size_t i = 0; i < 2 * nj && m->kok; i++)
 		m->kjv[i] = (unsigned)m->jv[i];
 	for (size_t j = 0; j < nj && m->kok; j++)
@@ -231,7 +240,9 @@ mesh *mesh_copy(const mesh *m)
 	c->kcv = dup_array(m->kok ? m->kcv : NULL, nk, sizeof *m->kcv);
 	c->kjv = dup_array(m->kok ? m->kjv : NULL, 2 * (size_t)m->nj, sizeof *m->kjv);
 	c->kjo = dup_array(m->kok ? m->kjo : NULL, 2 * (size_t)m->nj, sizeof *m->kjo);
-	c->kok = c->kcv && c->kjv && c->kjo;
+	c->kco = dup_array(m->kok ? m->kco : NULL, nk, sizeof *m->kco);
+	c->kjc = dup_array(m->kok ? m->kjc : NULL, 2 * (size_t)m->nj, sizeof *m->kjc);
+	c->kok = c->kcv && c->kjv && c->kjo && c->kco && c->kjc;
 	c->param = dup_array(m->param, m->nparam, sizeof *m->param);
 	c->hist = calloc(m->nhist ? m->nhist : 1, sizeof *c->hist);
 	c->nhist = 0;

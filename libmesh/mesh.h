@@ -78,11 +78,16 @@ typedef struct mesh {
 	double kimg[2 * 64];
 	double kx[8], ky[8];  /* the distinct offsets per axis; code = ix + 8 iy */
 	int nkx, nky;
-	int kok;           /* kcv, kjv, kjo and kimg are valid; else the kernel
-	                      reads cv, jv, cimg, jimg */
+	int kok;           /* kcv, kjv, kjo, kco, kjc and kimg are valid; else the
+	                      kernel reads cv, jv, cimg, jimg */
 	unsigned *kjo;     /* 2 per junction: 16 jv[2j], 16 jv[2j+1], the byte
 	                      offsets of its vertices' (x, y) pairs, which the
 	                      kernel in cache indexes with, no shift needed */
+	unsigned *kco;     /* per corner: 16 cv[i], its vertex's byte offset,
+	                      for the same reason */
+	unsigned *kjc;     /* 2 per junction: 16 jc[2j], 16 jc[2j+1], the byte
+	                      offsets of its cells' (dW/dA, dW/dP) pairs in the
+	                      kernel's workspace */
 
 	int nparam;
 	mesh_param *param;
@@ -134,16 +139,17 @@ int mesh_write(FILE *f, const mesh *m);
 #define MESH_KMASK ((1u << MESH_KSHIFT) - 1)
 enum { MESH_KFIRST_A = 1, MESH_KFIRST_B = 2, MESH_KLAST_A = 4, MESH_KLAST_B = 8 };
 
-/* Derive kcv, kjv, kjo and kimg from cv, jv, cimg and jimg (mesh_build,
- * mesh_wrap, mesh_t1 and mesh_order_spatial do): code that changes those
- * arrays directly calls it afterwards.  When the ids or the offsets do not
+/* Derive kcv, kjv, kjo, kco, kjc and kimg from cv, jv, jc, cimg and jimg
+ * (mesh_build, mesh_wrap, mesh_t1 and mesh_order_spatial do): code that
+ * changes those arrays directly calls it afterwards.  When the ids or the offsets do not
  * fit (2^MESH_KSHIFT vertices, 8 distinct offsets per axis) or memory is
  * short, kok is 0 and the kernel reads the arrays themselves. */
 void mesh_kernel_build(mesh *m);
 
 /* The same for corners c0 <= i < c1 and the n junctions js[0..n) only,
  * after a local change (a T1), where every vertex that a junction in js
- * gained or lost has all its junctions in js; kok becomes 0 if a new
+ * gained or lost has all its junctions in js, and every junction whose
+ * cells (jc) changed is in js; kok becomes 0 if a new
  * offset does not fit. */
 void mesh_kernel_update(mesh *m, int c0, int c1, const int *js, int n);
 

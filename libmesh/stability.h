@@ -42,6 +42,9 @@
 #ifndef TIS_STABILITY_H
 #define TIS_STABILITY_H
 
+#include <signal.h>
+#include <stdio.h>
+
 #include "geom.h"
 #include "hessian.h"
 #include "mesh.h"
@@ -171,5 +174,44 @@ int stab_network_leading(const mesh *m, const model *p, const stab_opts *o,
 
 /* Largest vertex force of m at p (the balance check).  MESH_ENOMEM. */
 int stab_fmax(const mesh *m, const model *p, double *fmax);
+
+/* ---- the tables of tis-stability (stab_table.c) ---- */
+
+/* The parameter points of a table: rates 1/tau_m (each > 0) and, for
+ * eigenvalue rows, gamma0 values (each >= 0; NULL: threshold rows);
+ * dense adds the dense cross-check's columns. */
+typedef struct {
+	const double *rate, *gamma0;
+	int nrate, ngamma0;
+	int dense;
+} stab_grid;
+
+/* The column names (tab-separated) of the rows of g, or of the network
+ * rows (p0 n rate gamma0 re im). */
+const char *stab_columns(const stab_grid *g, int network);
+
+/* The rows go to f; of mesh m (at force balance) at p, with options o. */
+typedef struct {
+	FILE *f;
+	const mesh *m;
+	const model *p;
+	const stab_opts *o;
+	const stab_grid *grid;
+} stab_table;
+
+/* The rows of the count junctions sel of t->m from its decomposition sd,
+ * junction by junction, rate by rate: a threshold row p0 j a b l0 rate
+ * g0star omega kind g0cg beta a1 (stab_critical, stab_jn_a1), or an
+ * eigenvalue row p0 j a b l0 rate gamma0 re im per gamma0 (stab_leading;
+ * NaN with negative Hessian modes); with dense, the leading eigenvalue of
+ * the full Jacobian (stab_dense_leading, at g0star for a threshold row:
+ * NaN where there is none) as dense_re dense_im.  jn is room for the
+ * poles (stab_jn_alloc(2 nv)).  The rows end early when *stop becomes
+ * nonzero.  MESH_ENOCONV if a root-find failed; the error of a dense
+ * check ("dense check: ...", *dense_failed set), which ends the table in
+ * the middle of its row. */
+int stab_rows(const stab_table *t, const stab_decomp *sd, const int *sel, int count,
+              stab_jn *jn, const volatile sig_atomic_t *stop, int *dense_failed,
+              mesh_error *err);
 
 #endif

@@ -248,8 +248,11 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 	memcpy(m->cv + base, ncv, (size_t)w * sizeof *ncv);
 	memcpy(m->cj + base, ncj, (size_t)w * sizeof *ncj);
 	memcpy(m->cimg + 2 * (size_t)base, ncimg, 2 * (size_t)w * sizeof *ncimg);
-	if (m->kok)
+	if (m->kok) {
 		memcpy(m->kcv + base, nkcv, (size_t)w * sizeof *nkcv);
+		for (int i = base; i < base + w; i++)
+			m->kco[i] = 16u * (unsigned)m->cv[i];
+	}
 	for (int k = kmin; k <= kmax; k++)
 		m->coff[k + 1] = base + ncoff[k + 1 - kmin];
 	free(ncimg);

@@ -3,7 +3,7 @@
 # several junctions, interruption and continuation.  Short runs on 6x6.
 . "$(dirname "$0")/lib.sh"
 
-plan 52
+plan 53
 
 tis-hex 6 6 --p0 3.65 >"$T/hex.mesh" || exit 1
 H="$T/hex.mesh"
@@ -31,6 +31,12 @@ fails_with 1 "a mesh not at rest" tis-active --index 0 $A "$T/moved.mesh"
 tis-voronoi 36 --seed 1 >"$T/vor.mesh"
 ok "an unrelaxed Voronoi tissue: not at rest, said so" sh -c "tis-active --index 0 --time 1 '$T/vor.mesh' 2>&1 >/dev/null | grep -q 'not at rest'"
 fails_with 1 "missing input file" tis-active --index 0 "$T/none.mesh"
+if [ -w /dev/full ]; then
+	ok "a full disk: one message, no 'Success' in it" sh -c "tis-active --random 2 --seed 1 --time 1 $A '$H' \
+		>/dev/full 2>'$T/full.err'; [ \$? -eq 1 ] && grep -q '^tis-active: stdout: write error' '$T/full.err' && ! grep -q Success '$T/full.err'"
+else
+	pass "# skip no /dev/full"
+fi
 
 # one junction: final mesh, trace, history line
 tis-active --index 0 $A --time 20 --trace "$T/tr.tsv" "$H" >"$T/a.mesh" 2>"$T/a.err"

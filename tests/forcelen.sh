@@ -3,7 +3,7 @@
 # against the exact linear response, threads do not change the bytes,
 # several meshes in one stream, the return legs, usage and input errors.
 . "$(dirname "$0")/lib.sh"
-plan 38
+plan 39
 
 tis-hex 6 6 --p0 3.6 >"$T/h.mesh"
 tis-forcelen --index 0 --range 0.02 "$T/h.mesh" >"$T/c.tsv"
@@ -72,6 +72,8 @@ fails_with 2 "--linear with a sweep option" tis-forcelen --index 0 --linear --no
 ok "--lmin above l0: a warning, no inward legs" sh -c "tis-forcelen --index 0 --range 0.02 --lmin 100 '$T/h.mesh' 2>'$T/lw' | awk '\$1 == \$1 + 0' | wc -l | grep -qx 9 && grep -q 'no longer than --lmin 100' '$T/lw'"
 fails_with 2 "no junction selection" tis-forcelen "$T/h.mesh"
 fails_with 2 "two selections" tis-forcelen --all --index 0 "$T/h.mesh"
+tis-forcelen --index 5 --index 0 --range 0.02 "$T/h.mesh" | rows >"$T/twice.rows"
+ok "the same selection twice: the last one counts" cmp -s "$T/twice.rows" "$T/c.rows"
 fails_with 2 "--step nan" tis-forcelen --index 0 --step nan "$T/h.mesh"
 fails_with 2 "--algo unknown" tis-forcelen --index 0 --algo simplex "$T/h.mesh"
 fails_with 1 "--index beyond the junctions" tis-forcelen --index 999 "$T/h.mesh"

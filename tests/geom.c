@@ -225,7 +225,8 @@ int main(void)
 		mesh_free(big);
 	}
 	/* AVX2 and portable builds of the kernel, in cache: a Voronoi tissue
-	 * of 37 cells has 74 vertices, so the four-vertex loops have a tail */
+	 * of 37 cells has 74 vertices, so the four-vertex loops have a tail,
+	 * and 111 junctions, so pass 1's four-junction loop has one of 3 */
 	{
 		double xy[74], *dg = malloc(s->nj * sizeof *dg);
 		mesh *v = NULL;
@@ -236,7 +237,7 @@ int main(void)
 		double *vdg = built ? malloc(v->nj * sizeof *vdg) : NULL;
 		for (int j = 0; built && j < v->nj; j++)
 			vdg[j] = 0.2 * cos(0.9 * j);
-		ok(built && v->nv % 4 == 2 && simd_same(v, &p, vdg) && simd_same(s, &p, dg) &&
+		ok(built && v->nv % 4 == 2 && v->nj % 4 == 3 && simd_same(v, &p, vdg) && simd_same(s, &p, dg) &&
 		   simd_same(m, &p, NULL), "small tissues: AVX2 build of the kernel bit for bit as "
 		   "portable (level %d here)", energy_ws_simd(w, 1));
 		free(vdg);

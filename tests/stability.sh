@@ -5,7 +5,7 @@
 # at g0* and on eigenvalue rows of a relaxed Voronoi tissue, the network at
 # gamma0 = 0, negative modes, and bad input.
 . "$(dirname "$0")/lib.sh"
-plan 28
+plan 33
 
 tis-hex 18 18 --p0 3.65 >"$T/h18.mesh"
 tis-hex 6 6 --p0 3.65 >"$T/h6.mesh"
@@ -84,4 +84,11 @@ fails_with 1 "a mesh far from force balance" tis-stability --rate 0.1 "$T/off.me
 ok "and no output" test ! -s "$T/out"
 fails_with 1 "an empty stream" sh -c ': | tis-stability --rate 0.1'
 fails_with 2 "--network without --gamma0" tis-stability --network --rate 0.1 "$T/h6.mesh"
+tis-stability --rate 0.1,-1 "$T/h6.mesh" 2>"$T/err"
+ok "a bad value in a list is named" grep -q -- '--rate: every value must be > 0 (got -1)' "$T/err"
+fails_with 2 "a negative gamma0" tis-stability --rate 0.1 --gamma0 0,-0.5 "$T/h6.mesh"
+ok "... named with its bound" grep -q -- '--gamma0: every value must be >= 0 (got -0.5)' "$T/err"
+fails_with 2 "a junction choice given twice" tis-stability --all --all --rate 0.1 "$T/h6.mesh"
+fails_with 2 "--network with a junction choice" \
+	tis-stability --network --gamma0 0.1 --index 0 --rate 0.1 "$T/h6.mesh"
 done_testing

@@ -19,7 +19,7 @@
 
 /* The kernel's packed copy (mesh_kernel_update after each T1) decodes to
  * the mesh's arrays bit for bit, with the first and last flags of a fresh
- * mesh_kernel_build, and its vertex byte offsets are 16 times jv. */
+ * mesh_kernel_build, and its byte offsets are 16 times jv, cv and jc. */
 static int kernel_consistent(const mesh *m)
 {
 	if (!m->kok)
@@ -29,14 +29,17 @@ static int kernel_consistent(const mesh *m)
 	int good = f->kok;
 	for (int i = 0; good && i < m->coff[m->nc]; i++)
 		good = (int)(m->kcv[i] & MESH_KMASK) == m->cv[i] &&
-		       memcmp(m->kimg + 2 * (m->kcv[i] >> MESH_KSHIFT), m->cimg + 2 * i, 2 * sizeof(double)) == 0;
+		       memcmp(m->kimg + 2 * (m->kcv[i] >> MESH_KSHIFT), m->cimg + 2 * i, 2 * sizeof(double)) == 0 &&
+		       m->kco[i] == 16u * (unsigned)m->cv[i];
 	for (int j = 0; good && j < m->nj; j++)
 		good = (int)(m->kjv[2 * j] & MESH_KMASK) == m->jv[2 * j] &&
 		       (int)(m->kjv[2 * j + 1] & MESH_KMASK) == m->jv[2 * j + 1] &&
 		       memcmp(m->kimg + 2 * (m->kjv[2 * j] >> MESH_KSHIFT), m->jimg + 2 * j, 2 * sizeof(double)) == 0 &&
 		       m->kjv[2 * j + 1] >> MESH_KSHIFT == f->kjv[2 * j + 1] >> MESH_KSHIFT &&
 		       m->kjo[2 * j] == 16u * (unsigned)m->jv[2 * j] &&
-		       m->kjo[2 * j + 1] == 16u * (unsigned)m->jv[2 * j + 1];
+		       m->kjo[2 * j + 1] == 16u * (unsigned)m->jv[2 * j + 1] &&
+		       m->kjc[2 * j] == 16u * (unsigned)m->jc[2 * j] &&
+		       m->kjc[2 * j + 1] == 16u * (unsigned)m->jc[2 * j + 1];
 	mesh_free(f);
 	return good;
 }

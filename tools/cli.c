@@ -236,6 +236,9 @@ void cli_write_error(const char *what)
 {
 	if (errno == EPIPE)
 		cli_die(EXIT_NOCONV, "%s closed early (broken pipe): output incomplete", what);
+	/* a stream whose error flag an earlier write set no longer knows why */
+	if (errno == 0)
+		cli_die(EXIT_INPUT, "%s: write error", what);
 	cli_die(EXIT_INPUT, "%s: write error: %s", what, strerror(errno));
 }
 
@@ -454,12 +457,79 @@ double *cli_double_list(const char *opt, const char *arg, int *n)
 	return v;
 }
 
+double *cli_double_list_above(const char *opt, const char *arg, int *n, double lo,
+                              int strict)
+{
+	double *v = cli_double_list(opt, arg, n);
+	for (int i = 0; i < *n; i++)
+		if (strict ? !(v[i] > lo) : !(v[i] >= lo)) {
+			double bad = v[i];
+			free(v);   /* exit checks for leaks under ASan */
+			cli_usage_error("%s: every value must be %s %g (got %g)", opt,
+			                strict ? ">" : ">=", lo, bad);
+		}
+	return v;
+}
+
 void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b)
 {
 	*a = cli_long(opt, optarg, 0, 2000000000);
 	if (optind >= argc)
 		cli_usage_error("option '%s' needs two vertex ids", opt);
 	*b = cli_long(opt, argv[optind++], 0, 2000000000);
+}
+
+void cli_jsel(jsel *js, const char *name, int again, const char *choose, int argc,
+              char *const argv[])
+{
+	jsel_kind kind = strcmp(name, "junction") == 0 ? JSEL_PAIR
+	               : strcmp(name, "index") == 0 ? JSEL_INDEX
+	               : strcmp(name, "random") == 0 ? JSEL_RANDOM
+	               : strcmp(name, "list") == 0 ? JSEL_LIST : JSEL_ALL;
+	if (js->kind != JSEL_NONE && !(again && js->kind == kind))
+		cli_usage_error("%s", choose);
+	js->kind = kind;
+	if (kind == JSEL_PAIR)
+		cli_vertex_pair("--junction", argc, argv, &js->a, &js->b);
+	else if (kind == JSEL_INDEX)
+		js->index = cli_long("--index", optarg, 0, 2000000000);
+	else if (kind == JSEL_RANDOM)
+		js->count = cli_long("--random", optarg, 1, 2000000000);
+	else if (kind == JSEL_LIST)
+		js->path = optarg;
+}
+
+model cli_model(const mesh *m, const cli_model_opts *mo)
+{
+	model p = model_from_mesh(m);
+	if (mo->has_p0)
+		p.p0 = mo->p0;
+	if (mo->has_ka)
+		p.ka = mo->ka;
+	return p;
+}
+
+void cli_model_set(mesh *m, const cli_model_opts *mo)
+{
+	if ((mo->has_p0 && mesh_param_set(m, "p0", mo->p0) != MESH_OK) ||
+	    (mo->has_ka && mesh_param_set(m, "ka", mo->ka) != MESH_OK))
+		cli_die(EXIT_INPUT, "out of memory");
+}
+
+void cli_progress_init(cli_progress *pr)
+{
+	*pr = (cli_progress){ .tty = isatty(2) };
+}
+
+int cli_progress_due(cli_progress *pr, int force)
+{
+	if (!pr->tty)
+		return 0;
+	time_t now = time(NULL);
+	if (!force && now == pr->last)
+		return 0;
+	pr->last = now;
+	return 1;
 }
 
 const char *cli_stop_name(void)

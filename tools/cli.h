@@ -6,7 +6,11 @@
 
 #include <signal.h>
 #include <stdio.h>
+#include <time.h>
+
+#include "geom.h"
 #include "mesh.h"
+#include "select.h"
 
 enum { EXIT_INPUT = 1, EXIT_USAGE = 2, EXIT_NOCONV = 3 };
 
@@ -49,6 +53,11 @@ void cli_box(const char *ax, const char *ay, double *lx, double *ly);
  * otherwise. */
 double *cli_double_list(const char *opt, const char *arg, int *n);
 
+/* cli_double_list whose every value is > lo (strict) or >= lo; a usage
+ * error "OPT: every value must be > LO (got V)" otherwise. */
+double *cli_double_list_above(const char *opt, const char *arg, int *n, double lo,
+                              int strict);
+
 /* "k1,k2,...": integers in [lo, hi] (cli_long each); malloc'd, *n of them.
  * Usage error otherwise. */
 int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n);
@@ -56,6 +65,35 @@ int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n);
 /* The two vertex ids of an option like --junction A B inside a getopt_long
  * loop: A is optarg, B the next argument (optind moves past it). */
 void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b);
+
+/* Model parameters given on the command line (--p0, --ka), which
+ * override the mesh's: cli_model gives the model of m with them,
+ * cli_model_set writes them into m's params (exit 1 if out of memory). */
+typedef struct {
+	int has_p0, has_ka;
+	double p0, ka;
+} cli_model_opts;
+model cli_model(const mesh *m, const cli_model_opts *mo);
+void cli_model_set(mesh *m, const cli_model_opts *mo);
+
+/* A progress line on stderr, only when it is a terminal: init looks
+ * (isatty), due says whether to write one now: at most once a second,
+ * or when force is set. */
+typedef struct {
+	int tty;
+	time_t last;
+} cli_progress;
+void cli_progress_init(cli_progress *pr);
+int cli_progress_due(cli_progress *pr, int force);
+
+/* A junction option (select.h) inside a getopt_long loop, by its long
+ * name: "junction" A B (JSEL_PAIR; B is the next argument), "index" K,
+ * "random" K, "list" FILE, any other name every junction (JSEL_ALL:
+ * --all, --network).  A second choice is a usage error with the message
+ * choose, unless again is set and it is the same kind (the last value
+ * counts). */
+void cli_jsel(jsel *js, const char *name, int again, const char *choose, int argc,
+              char *const argv[]);
 
 /* An output file for run j of several: its name is pattern with its one
  * "%d" replaced by j (cli_one_d says whether it has that), or pattern

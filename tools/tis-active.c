@@ -5,8 +5,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 #include "active.h"
 #include "cli.h"
@@ -68,19 +66,11 @@ static const char help[] =
 struct opts {
 	jsel js;   /* --network: JSEL_ALL, every junction active at once */
 	act_opts a;
-	int has_p0, has_ka, has_perturb, has_t1, has_scheme;
-	double p0, ka, time, perturb, every, trace_every;
-	unsigned long seed;
+	act_job_opts jo;
+	cli_model_opts mo;
+	int has_t1, has_scheme;
 	const char *trace, *events, *input;
-	int *watch, nwatch;
 };
-
-static void set_sel(struct opts *o, jsel_kind kind)
-{
-	if (o->js.kind != JSEL_NONE)
-		cli_usage_error("choose one of --junction, --index, --random, --list, --network");
-	o->js.kind = kind;
-}
 
 static struct opts parse(int argc, char **argv)
 {
@@ -120,28 +110,24 @@ static struct opts parse(int argc, char **argv)
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
-	struct opts o = { .time = 1000, .seed = 1, .trace_every = 1 };
+	struct opts o = { .jo = { .perturb = -1, .seed = 1, .t_end = 1000, .trace_every = 1 } };
 	act_opts_init(&o.a);
-	int c;
-	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+	int c, li;
+	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
 		switch (c) {
-		case O_JUNCTION:
-			set_sel(&o, JSEL_PAIR);
-			cli_vertex_pair("--junction", argc, argv, &o.js.a, &o.js.b);
+		case O_JUNCTION: case O_INDEX: case O_RANDOM: case O_LIST: case O_NET:
+			cli_jsel(&o.js, lo[li].name, 0,
+			         "choose one of --junction, --index, --random, --list, --network", argc, argv);
 			break;
-		case O_INDEX: set_sel(&o, JSEL_INDEX); o.js.index = cli_long("--index", optarg, 0, 2000000000); break;
-		case O_RANDOM: set_sel(&o, JSEL_RANDOM); o.js.count = cli_long("--random", optarg, 1, 2000000000); break;
-		case O_LIST: set_sel(&o, JSEL_LIST); o.js.path = optarg; break;
-		case O_NET: set_sel(&o, JSEL_ALL); break;
 		case O_RATE: o.a.tau = 1 / cli_double_range("--rate", optarg, 1e-9, 1e9); break;
 		case O_TAU: o.a.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
 		case O_GAMMA0: o.a.gamma0 = cli_double_range("--gamma0", optarg, -1e6, 1e6); break;
 		case O_SIGMA: o.a.sigma = cli_double_range("--sigma", optarg, 0, 100); break;
-		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
-		case O_TIME: o.time = cli_double_range("--time", optarg, 0, 1e12); break;
-		case O_PERTURB: o.perturb = cli_double_range("--perturb", optarg, 0, 0.1); o.has_perturb = 1; break;
-		case O_SEED: o.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
+		case O_P0: o.mo.p0 = cli_param("--p0", optarg, "p0"); o.mo.has_p0 = 1; break;
+		case O_KA: o.mo.ka = cli_param("--ka", optarg, "ka"); o.mo.has_ka = 1; break;
+		case O_TIME: o.jo.t_end = cli_double_range("--time", optarg, 0, 1e12); break;
+		case O_PERTURB: o.jo.perturb = cli_double_range("--perturb", optarg, 0, 0.1); break;
+		case O_SEED: o.jo.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
 		case O_SCHEME:
 			if (act_scheme_parse(optarg, &o.a.scheme) != MESH_OK)
 				cli_usage_error("--scheme: bdf, euler or split, not '%s'", optarg);
@@ -156,10 +142,10 @@ static struct opts parse(int argc, char **argv)
 		case O_T1AGAIN: o.a.t1_again = cli_double_range("--t1-again", optarg, 0, 0.999); break;
 		case O_COLLAPSE: o.a.l_collapse = cli_double_range("--collapse", optarg, 1e-9, 0.5); break;
 		case O_TRACE: o.trace = optarg; break;
-		case O_TRACEEVERY: o.trace_every = cli_double_range("--trace-every", optarg, 1e-9, 1e12); break;
+		case O_TRACEEVERY: o.jo.trace_every = cli_double_range("--trace-every", optarg, 1e-9, 1e12); break;
 		case O_EVENTS: o.events = optarg; break;
-		case O_WATCH: o.watch = cli_int_list("--watch", optarg, 0, INT_MAX, &o.nwatch); break;
-		case O_EVERY: o.every = cli_double_range("--every", optarg, 1e-9, 1e12); break;
+		case O_WATCH: o.jo.watch = cli_int_list("--watch", optarg, 0, INT_MAX, &o.jo.nwatch); break;
+		case O_EVERY: o.jo.every = cli_double_range("--every", optarg, 1e-9, 1e12); break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
 		default: cli_bad_option(argv, c);
@@ -170,7 +156,8 @@ static struct opts parse(int argc, char **argv)
 	if (argc - optind > 1)
 		cli_usage_error("at most one input file");
 	o.input = optind < argc ? argv[optind] : NULL;
-	o.js.seed = o.seed;
+	o.js.seed = o.jo.seed;
+	o.jo.name = cli_input_name(o.input);
 	const int network = o.js.kind == JSEL_ALL;
 	act_opts_mode(&o.a, network, o.has_t1, o.has_scheme);
 	if (o.a.t1_length > 0 && !(o.a.t1_new < o.a.t1_length))
@@ -178,9 +165,9 @@ static struct opts parse(int argc, char **argv)
 	if (o.a.sigma > 0 && o.a.scheme == ACT_BDF)
 		cli_usage_error("--scheme bdf has no noise; use --scheme euler with --sigma");
 	int multi = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_LIST;
-	if (o.nwatch && !network)
+	if (o.jo.nwatch && !network)
 		cli_usage_error("--watch is for --network");
-	if (multi && o.every > 0)
+	if (multi && o.jo.every > 0)
 		cli_usage_error("--every writes frames of one run: not with --random or --list");
 	if (multi && o.trace && !cli_one_d(o.trace))
 		cli_usage_error("--trace with several junctions needs one %%d in the file name");
@@ -195,23 +182,20 @@ struct out {
 	int j;              /* the junction traced (-1 in network mode) */
 	int jfile;          /* the number in the file names (-1: as given) */
 	FILE *trace, *events;
-	int tty;
-	time_t last_progress;
+	cli_progress pr;
 };
 
 static void progress(const struct out *u, double t, long nstep, long nt1)
 {
-	fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, t, u->o->time, nstep,
+	fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, t, u->o->jo.t_end, nstep,
 		nt1);
 }
 
 static void on_step(void *data, const act *a)
 {
 	struct out *u = data;
-	time_t now = time(NULL);
-	if (!u->tty || now == u->last_progress)
+	if (!cli_progress_due(&u->pr, 0))
 		return;
-	u->last_progress = now;
 	act_counts c;
 	act_counts_get(a, &c);
 	progress(u, c.t, c.nstep, c.nt1);
@@ -245,7 +229,7 @@ static void on_begin(void *data, act *a, mesh *m)
 	if (u->o->trace) {
 		u->trace = cli_open_numbered(u->o->trace, u->jfile);
 		char cols[4096];
-		act_trace_columns(cols, sizeof cols, u->j, u->o->watch, u->o->nwatch);
+		act_trace_columns(cols, sizeof cols, u->j, u->o->jo.watch, u->o->jo.nwatch);
 		cli_table_header_run(u->trace, m, cols);
 	}
 	if (u->o->events) {
@@ -264,19 +248,16 @@ static void close_out(FILE *f, const char *name)
 /* Run m with junction j active (-1: network), outputs numbered jfile. */
 static act_result run(const struct opts *o, mesh *m, const model *p, int j, int jfile)
 {
-	struct out u = { .o = o, .j = j, .jfile = jfile, .tty = isatty(2) };
-	act_io io = { on_begin, on_row, o->every > 0 ? on_frame : NULL, on_step, &u };
-	act_job_opts jo = { .perturb = o->has_perturb ? o->perturb : -1, .seed = o->seed,
-			    .t_end = o->time, .trace_every = o->trace_every, .every = o->every,
-			    .name = cli_input_name(o->input), .watch = o->watch,
-			    .nwatch = o->nwatch };
+	struct out u = { .o = o, .j = j, .jfile = jfile };
+	cli_progress_init(&u.pr);
+	act_io io = { on_begin, on_row, o->jo.every > 0 ? on_frame : NULL, on_step, &u };
 	act_result r;
 	mesh_error err;
-	if (act_job(m, p, &o->a, &jo, j, &cli_stop, &io, &r, &err) != MESH_OK)
+	if (act_job(m, p, &o->a, &o->jo, j, &cli_stop, &io, &r, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	if (r.why == ACT_END_NONFINITE)
 		cli_warn("%s", err.msg);
-	if (u.tty) {
+	if (u.pr.tty) {
 		progress(&u, r.c.t, r.c.nstep, r.c.nt1);
 		fputc('\n', stderr);
 	}
@@ -292,7 +273,7 @@ static int one(const struct opts *o, mesh *m, const model *p, int j)
 	char note[512];
 	act_note(note, sizeof note, &o->a, &r);
 	cli_history_note(m, note);
-	if (o->every > 0)
+	if (o->jo.every > 0)
 		printf("# %s final t %.10g\n", cli_name, r.t_end);
 	cli_write_mesh(m);
 	if (r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE) {
@@ -332,9 +313,7 @@ int main(int argc, char **argv)
 	cli_init("tis-active", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 	mesh *m = cli_read_one(o.input);
-	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
-	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
-		cli_die(EXIT_INPUT, "out of memory");
+	cli_model_set(m, &o.mo);
 	cli_history(m);
 	model p = model_from_mesh(m);
 	cli_catch_signals();

@@ -47,36 +47,13 @@ static const char help[] =
 
 struct opts {
 	jsel js;
-	int nsel;
 	double *rate, *gamma0;
 	int nrate, ngamma0;
-	int has_p0, has_ka, dense, network;
-	double p0, ka;
+	int dense, network;
+	cli_model_opts mo;
 	stab_opts so;
 	const char *input;
 };
-
-static void set_sel(struct opts *o, jsel_kind kind)
-{
-	if (o->nsel++ > 0)
-		cli_usage_error("choose one of --junction, --index, --list, --all");
-	o->js.kind = kind;
-}
-
-static double *positive_list(const char *opt, const char *arg, int *n, int invert)
-{
-	double *v = cli_double_list(opt, arg, n);
-	for (int i = 0; i < *n; i++) {
-		if (!(v[i] > 0)) {
-			double bad = v[i];
-			free(v);   /* exit checks for leaks under ASan */
-			cli_usage_error("%s: every value must be > 0 (got %g)", opt, bad);
-		}
-		if (invert)
-			v[i] = 1 / v[i];
-	}
-	return v;
-}
 
 static struct opts parse(int argc, char **argv)
 {
@@ -101,41 +78,30 @@ static struct opts parse(int argc, char **argv)
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
-	struct opts o = { .js.kind = JSEL_ALL };
+	struct opts o = { .js.kind = JSEL_NONE };
 	stab_opts_init(&o.so);
-	int c;
-	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+	int c, li;
+	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
 		switch (c) {
-		case O_JUNCTION:
-			set_sel(&o, JSEL_PAIR);
-			cli_vertex_pair("--junction", argc, argv, &o.js.a, &o.js.b);
+		case O_JUNCTION: case O_INDEX: case O_LIST: case O_ALL:
+			cli_jsel(&o.js, lo[li].name, 0, "choose one of --junction, --index, --list, --all",
+			         argc, argv);
 			break;
-		case O_INDEX:
-			set_sel(&o, JSEL_INDEX);
-			o.js.index = cli_long("--index", optarg, 0, 2000000000);
-			break;
-		case O_LIST: set_sel(&o, JSEL_LIST); o.js.path = optarg; break;
-		case O_ALL: set_sel(&o, JSEL_ALL); break;
 		case O_RATE:
 		case O_TAU:
 			if (o.rate)
 				cli_usage_error("give one of --rate and --tau, once");
-			o.rate = positive_list(c == O_RATE ? "--rate" : "--tau", optarg,
-			                       &o.nrate, c == O_TAU);
+			o.rate = cli_double_list_above(c == O_RATE ? "--rate" : "--tau", optarg,
+			                               &o.nrate, 0, 1);
+			for (int i = 0; c == O_TAU && i < o.nrate; i++)
+				o.rate[i] = 1 / o.rate[i];
 			break;
 		case O_GAMMA0:
 			free(o.gamma0);
-			o.gamma0 = cli_double_list("--gamma0", optarg, &o.ngamma0);
-			for (int i = 0; i < o.ngamma0; i++)
-				if (!(o.gamma0[i] >= 0)) {
-					double bad = o.gamma0[i];
-					free(o.gamma0);
-					free(o.rate);
-					cli_usage_error("--gamma0: every value must be >= 0 (got %g)", bad);
-				}
+			o.gamma0 = cli_double_list_above("--gamma0", optarg, &o.ngamma0, 0, 0);
 			break;
-		case O_P0: o.p0 = cli_double_range("--p0", optarg, 0, 100); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_double_range("--ka", optarg, 0, 1e12); o.has_ka = 1; break;
+		case O_P0: o.mo.p0 = cli_double_range("--p0", optarg, 0, 100); o.mo.has_p0 = 1; break;
+		case O_KA: o.mo.ka = cli_double_range("--ka", optarg, 0, 1e12); o.mo.has_ka = 1; break;
 		case O_DENSE: o.dense = 1; break;
 		case O_NETWORK: o.network = 1; break;
 		case O_FTOL: o.so.ftol = cli_double_range("--ftol", optarg, 1e-16, 1e6); break;
@@ -157,8 +123,10 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("give the rates 1/tau_m with --rate or --tau");
 	if (o.network && o.gamma0 == NULL)
 		cli_usage_error("--network needs --gamma0");
-	if (o.network && o.nsel > 0)
+	if (o.network && o.js.kind != JSEL_NONE)
 		cli_usage_error("--network makes every junction active: no junction options");
+	if (o.js.kind == JSEL_NONE)
+		o.js.kind = JSEL_ALL;
 	if (argc - optind > 1)
 		cli_usage_error("at most one input file");
 	o.input = optind < argc ? argv[optind] : NULL;
@@ -172,27 +140,8 @@ static void print_header(const struct opts *o, const mesh *m)
 	static int done;
 	if (done++)
 		return;
-	const char *cols;
-	if (o->network)
-		cols = "p0\tn\trate\tgamma0\tre\tim";
-	else if (o->gamma0)
-		cols = o->dense ? "p0\tj\ta\tb\tl0\trate\tgamma0\tre\tim\tdense_re\tdense_im"
-		                : "p0\tj\ta\tb\tl0\trate\tgamma0\tre\tim";
-	else
-		cols = o->dense ? "p0\tj\ta\tb\tl0\trate\tg0star\tomega\tkind\tg0cg\tbeta\ta1"
-		                  "\tdense_re\tdense_im"
-		                : "p0\tj\ta\tb\tl0\trate\tg0star\tomega\tkind\tg0cg\tbeta\ta1";
-	cli_table_header(stdout, m, cols);
-}
-
-static void dense_check(const mesh *m, const model *p, const struct opts *o, int j,
-                        double rate, double g0)
-{
-	double re = NAN, im = NAN;
-	mesh_error err;
-	if (isfinite(g0) && stab_dense_leading(m, p, &o->so, j, rate, g0, &re, &im, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "dense check: %s", err.msg);
-	printf("\t%.12g\t%.12g", re, im);
+	stab_grid g = { .gamma0 = o->gamma0, .dense = o->dense };
+	cli_table_header(stdout, m, stab_columns(&g, o->network));
 }
 
 /* Every row of one mesh; the number of negative Hessian modes. */
@@ -227,37 +176,13 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 	if (jn == NULL)
 		cli_die(EXIT_INPUT, "out of memory");
 	print_header(o, m);
-	for (int k = 0; k < count && !cli_stop; k++) {
-		stab_jn_set(sd, m, sel[k], jn);
-		for (int r = 0; r < o->nrate && !cli_stop; r++) {
-			double rate = o->rate[r];
-			if (o->gamma0 == NULL) {
-				stab_crit c;
-				int st = stab_critical(jn, rate, &c);
-				if (st == MESH_ENOCONV)
-					cli_die(EXIT_NOCONV, "junction %d, rate %g: the threshold root-find failed",
-					        jn->j, rate);
-				printf("%.10g\t%d\t%d\t%d\t%.12g\t%.10g\t%.10g\t%.10g\t%s\t%.10g\t%.6g\t%.10g",
-				       p->p0, jn->j, jn->a, jn->b, jn->l0, rate, c.g0star, c.omega,
-				       stab_kind_name(c.kind), c.g0cg, c.beta, stab_jn_a1(jn));
-				if (o->dense)
-					dense_check(m, p, o, jn->j, rate, c.g0star);
-				putchar('\n');
-				continue;
-			}
-			for (int g = 0; g < o->ngamma0 && !cli_stop; g++) {
-				double re = NAN, im = NAN;
-				if (nneg == 0 && stab_leading(jn, rate, o->gamma0[g], &re, &im) != MESH_OK)
-					cli_die(EXIT_NOCONV, "junction %d, rate %g, gamma0 %g: no root found",
-					        jn->j, rate, o->gamma0[g]);
-				printf("%.10g\t%d\t%d\t%d\t%.12g\t%.10g\t%.10g\t%.12g\t%.12g", p->p0,
-				       jn->j, jn->a, jn->b, jn->l0, rate, o->gamma0[g], re, im);
-				if (o->dense)
-					dense_check(m, p, o, jn->j, rate, o->gamma0[g]);
-				putchar('\n');
-			}
-		}
-	}
+	stab_grid g = { .rate = o->rate, .nrate = o->nrate, .gamma0 = o->gamma0,
+	                .ngamma0 = o->ngamma0, .dense = o->dense };
+	stab_table t = { .f = stdout, .m = m, .p = p, .o = &o->so, .grid = &g };
+	int dense_failed;
+	int st = stab_rows(&t, sd, sel, count, jn, &cli_stop, &dense_failed, &err);
+	if (st != MESH_OK)
+		cli_die(st == MESH_ENOCONV && !dense_failed ? EXIT_NOCONV : EXIT_INPUT, "%s", err.msg);
 	free(sel);
 	stab_jn_free(jn);
 	stab_decomp_free(sd);
@@ -275,11 +200,7 @@ int main(int argc, char **argv)
 	int nmesh = 0, unstable = 0, nneg = 0;
 	double p0neg = 0;
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
-		model p = model_from_mesh(m);
-		if (o.has_p0)
-			p.p0 = o.p0;
-		if (o.has_ka)
-			p.ka = o.ka;
+		model p = cli_model(m, &o.mo);
 		nmesh++;
 		int k = analyse(m, &p, &o);
 		if (k > 0 && unstable++ == 0) {

@@ -1,0 +1,216 @@
+/* forcelen_job.c - what tis-forcelen does with a mesh: the input brought
+ * to rest, the junctions swept on threads with the curves handed out in
+ * order, the rows of its tables.  See forcelen.h. */
+#include "forcelen.h"
+
+#include <pthread.h>
+#include <stdlib.h>
+
+int fl_rest(mesh *m, const model *p, double ftol, int relax, fl_rest_report *rr,
+            mesh_error *err)
+{
+	mesh_stats s;
+	*rr = (fl_rest_report){ 0 };
+	if (mesh_stats_compute(m, p, &s) != MESH_OK)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	rr->f0 = s.fmax;
+	if (rr->f0 <= ftol || !relax)
+		return MESH_OK;
+	min_opts mo;
+	min_opts_init(&mo);
+	mo.ftol = ftol;
+	min_report rep;
+	int st = mesh_relax(m, p, &mo, &rep);
+	if (st == MESH_ENOMEM)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	if (st == MESH_EINVAL)
+		return mesh_error_set(err, 0, MESH_EINVAL,
+		                      "relaxing the input at p0 %g would invert a cell", p->p0);
+	rr->relaxed = 1;
+	rr->converged = st == MESH_OK;
+	rr->fres = rep.gnorm;
+	return MESH_OK;
+}
+
+int fl_count_short(const mesh *m, const int *sel, int n, const fl_opts *o)
+{
+	int nshort = 0;
+	for (int k = 0; k < n; k++)
+		nshort += junction_length(m, m->r, sel[k]) <= o->lmin;
+	return nshort;
+}
+
+void fl_curve_write(FILE *f, double p0, const mesh *m, int j, const fl_point *pts, int n)
+{
+	double l0 = junction_length(m, m->r, j);
+	for (int i = 0; i < n; i++) {
+		const fl_point *q = &pts[i];
+		fprintf(f, "%.10g\t%d\t%d\t%d\t%.12g\t%s\t%.12g\t%.12g\t%.15g\t%.3g\n", p0, j,
+		        m->jv[2 * j], m->jv[2 * j + 1], l0, fl_dir_name(q->dir), q->l, q->f, q->W,
+		        q->fres);
+	}
+}
+
+void fl_linear_write(FILE *f, const fl_linear *lr, const mesh *m, double p0, const int *sel,
+                     int n)
+{
+	for (int k = 0; k < n; k++) {
+		int j = sel[k];
+		fl_lin_result r;
+		fl_linear_a1(lr, m, j, &r);
+		fprintf(f, "%.10g\t%d\t%d\t%d\t%.12g\t%.12g\t%d\t%d\n", p0, j, m->jv[2 * j],
+		        m->jv[2 * j + 1], junction_length(m, m->r, j), r.a1, r.nzero, r.nneg);
+	}
+}
+
+/* Work shared by the sweep threads: junction k of sel goes to whichever
+ * thread asks next, its points into res[k].  Curves are handed out in the
+ * order of sel as soon as they and all before them are complete, so what
+ * the caller writes does not depend on the threads, and a run killed by
+ * its batch system keeps every curve finished so far. */
+struct job {
+	const mesh *m;
+	const model *p;
+	const fl_opts *fl;
+	const int *sel;
+	int count;
+	const volatile sig_atomic_t *stop;
+	const fl_sweeps_io *io;
+	fl_sweeps_result *r;
+	fl_point **res;
+	int *nres, *status;
+	int next;
+	int out;           /* curves 0..out-1 are handed out (or skipped) */
+	int halt;          /* io->curve asked to stop */
+	pthread_mutex_t lock;
+	int oom;
+};
+
+/* Whether curve k is finished: swept to its last point.  An interrupted
+ * sweep ends early (fewer points): it is never handed out. */
+static int complete(const struct job *jb, int k)
+{
+	int st = jb->status[k];
+	return (st == MESH_OK || st == MESH_ENOCONV) &&
+	       jb->nres[k] == fl_npoints(jb->m, jb->sel[k], jb->fl);
+}
+
+static void hand_out(struct job *jb, int k)
+{
+	fl_sweeps_result *r = jb->r;
+	int n = jb->nres[k];
+	for (int i = 0; i < n; i++) {
+		const fl_point *q = &jb->res[k][i];
+		r->points++;
+		if (q->status != MESH_OK) {
+			r->missed++;
+			if (!(q->fres <= r->worst))
+				r->worst = q->fres;
+		}
+	}
+	if (jb->io->curve && jb->io->curve(jb->io->data, jb->sel[k], jb->res[k], n) != 0)
+		jb->halt = 1;
+	r->written++;
+}
+
+/* With the lock held: hand out the curves that are now next in order. */
+static void flush_curves(struct job *jb)
+{
+	while (jb->out < jb->count && jb->status[jb->out] != -1 && !jb->halt) {
+		int k = jb->out++;
+		if (complete(jb, k))
+			hand_out(jb, k);
+		free(jb->res[k]);
+		jb->res[k] = NULL;
+	}
+	if (jb->io->progress)
+		jb->io->progress(jb->io->data, jb->out, jb->count);
+}
+
+static void *worker(void *arg)
+{
+	struct job *jb = arg;
+	fl_work *w = fl_work_alloc(jb->m);
+	for (;;) {
+		pthread_mutex_lock(&jb->lock);
+		int k = jb->next++;
+		if (w == NULL)
+			jb->oom = 1;
+		int halt = jb->halt;
+		pthread_mutex_unlock(&jb->lock);
+		if (w == NULL || k >= jb->count || halt || (jb->stop && *jb->stop))
+			break;
+		jb->res[k] = malloc(((size_t)fl_npoints(jb->m, jb->sel[k], jb->fl) + 1) *
+		                    sizeof **jb->res);
+		int st = jb->res[k] ? fl_sweep(jb->m, jb->p, jb->sel[k], jb->fl, w, jb->res[k],
+		                               &jb->nres[k], jb->stop) : MESH_ENOMEM;
+		pthread_mutex_lock(&jb->lock);
+		jb->status[k] = st;
+		if (st == MESH_OK || st == MESH_ENOCONV)
+			flush_curves(jb);
+		pthread_mutex_unlock(&jb->lock);
+	}
+	fl_work_free(w);
+	return NULL;
+}
+
+static int job_status(const struct job *jb, mesh_error *err)
+{
+	if (jb->oom)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	if (jb->halt)
+		return mesh_error_set(err, 0, MESH_EIO, "the curves were not all taken");
+	for (int k = 0; k < jb->count; k++) {
+		int st = jb->status[k];
+		if (st != -1 && st != MESH_OK && st != MESH_ENOCONV)
+			return mesh_error_set(err, 0, st, "junction %d: %s", jb->sel[k],
+			                      st == MESH_ENOMEM ? "out of memory" : "sweep failed");
+	}
+	return MESH_OK;
+}
+
+int fl_sweeps(const mesh *m, const model *p, const fl_opts *o, const int *sel, int count,
+              int threads, const volatile sig_atomic_t *stop, const fl_sweeps_io *io,
+              fl_sweeps_result *r, mesh_error *err)
+{
+	static const fl_sweeps_io none = { 0 };
+	*r = (fl_sweeps_result){ 0 };
+	struct job jb = { .m = m, .p = p, .fl = o, .sel = sel, .count = count, .stop = stop,
+	                  .io = io ? io : &none, .r = r };
+	/* a curve's points are allocated when it is swept and freed once
+	 * handed out: memory for a few curves, not for all of them */
+	jb.res = calloc((size_t)count + 1, sizeof *jb.res);
+	jb.nres = calloc((size_t)count + 1, sizeof *jb.nres);
+	jb.status = malloc(((size_t)count + 1) * sizeof *jb.status);
+	int st = MESH_OK;
+	if (!jb.res || !jb.nres || !jb.status) {
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		goto out;
+	}
+	for (int k = 0; k < count; k++)
+		jb.status[k] = -1;  /* not done */
+	pthread_mutex_init(&jb.lock, NULL);
+	int nt = threads < count ? threads : count;
+	pthread_t tid[FL_MAXTHREADS];
+	int started = 0;
+	for (int t = 1; t < nt && t < FL_MAXTHREADS; t++)
+		if (pthread_create(&tid[t], NULL, worker, &jb) == 0)
+			started++;
+	worker(&jb);
+	for (int t = 1; t <= started; t++)
+		pthread_join(tid[t], NULL);
+	pthread_mutex_destroy(&jb.lock);
+	if ((st = job_status(&jb, err)) != MESH_OK)
+		goto out;
+	/* stopped: the whole curves after the first unfinished one */
+	for (int k = jb.out; k < count && !jb.halt; k++)
+		if (jb.status[k] != -1 && complete(&jb, k))
+			hand_out(&jb, k);
+out:
+	for (int k = 0; jb.res && k < count; k++)
+		free(jb.res[k]);
+	free(jb.res);
+	free(jb.nres);
+	free(jb.status);
+	return st;
+}
