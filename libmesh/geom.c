@@ -369,7 +369,13 @@ pass_lengths4(const mesh *m, const v2d *r2, energy_ws *w, const int form)
 		vec[j + 2] = d2;
 		vec[j + 3] = d3;
 		v2d q01 = hsum2(d0 * d0, d1 * d1), q23 = hsum2(d2 * d2, d3 * d3);
+#ifdef __clang__
+		/* clang refuses the builtin where the portable build inlines it */
+		*(v2d *)(len + j) = sqrt2(q01);
+		*(v2d *)(len + j + 2) = sqrt2(q23);
+#else
 		*(v4d *)(len + j) = __builtin_ia32_sqrtpd256((v4d){ q01[0], q01[1], q23[0], q23[1] });
+#endif
 	}
 	pass_lengths(m, r2, w, j, nj, form);
 }
