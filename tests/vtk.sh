@@ -5,7 +5,7 @@
 # own lengths from the points (the periodic unwrapping); the .pvd's frame
 # times.  The VTK checks are skipped when python3-vtk9 is missing.
 . "$(dirname "$0")/lib.sh"
-plan 13
+plan 15
 top=$(cd "$(dirname "$0")/.." && pwd)
 PY=${PYTHON:-/usr/bin/python3}
 
@@ -21,6 +21,12 @@ mkdir "$T/run"
 tis-vtk -o "$T/run/f" "$T/frames"
 ok "-o: one .vtp per frame and a .pvd" test "$(cd "$T/run" && ls | tr '\n' ' ')" = "f-0000.vtp f-0001.vtp f-0002.vtp f.pvd "
 tis-info --tsv "$T/frames" | rows | cut -f13 >"$T/times"
+st=0; tis-vtk "$T/frames" >"$T/none.vtp" 2>"$T/err" || st=$?
+ok "frames without -o: exit 1, one line, nothing on stdout" \
+	sh -c "[ $st -eq 1 ] && [ ! -s '$T/none.vtp' ] && [ \$(wc -l <'$T/err') -eq 1 ] && grep -q 'more than one mesh' '$T/err'"
+st=$( { tis-hex 100 100 | tis-vtk 2>"$T/err"; echo $? >"$T/st"; } | head -c 100 >/dev/null; cat "$T/st")
+ok "reader gone: exit 3 (not by SIGPIPE), one line 'closed early'" \
+	sh -c "[ $st -eq 3 ] && grep -q 'closed early' '$T/err' && [ \$(wc -l <'$T/err') -eq 1 ]"
 
 if "$PY" -c 'import vtk' 2>/dev/null; then
 	cat >"$T/check.py" <<'PY'

@@ -103,7 +103,10 @@ int main(int argc, char **argv)
 	double *times = NULL;
 	mesh *m;
 	while (cli_read_mesh(in, o.input, &line, &m)) {
-		if (o.prefix == NULL && n > 0)
+		/* without -o, read ahead: a stream of frames is refused before
+		 * any of it reaches stdout */
+		mesh *more;
+		if (o.prefix == NULL && cli_read_mesh(in, o.input, &line, &more))
 			cli_die(EXIT_INPUT, "%s: more than one mesh: give -o PREFIX",
 			        cli_input_name(o.input));
 		model p = model_from_mesh(m);
@@ -125,8 +128,10 @@ int main(int argc, char **argv)
 		int st = vtk_write_vtp(f, m, &p, has_t ? &t : NULL);
 		if (st == MESH_ENOMEM)
 			cli_die(EXIT_INPUT, "out of memory");
+		if (st != MESH_OK && path == NULL)
+			cli_write_error("stdout");   /* a reader gone early: exit 3 */
 		if (st != MESH_OK || (path && fclose(f) != 0))
-			cli_die(EXIT_INPUT, "%s: write error", path ? path : "stdout");
+			cli_die(EXIT_INPUT, "%s: write error", path);
 		if (o.prefix) {
 			if (n == cap) {
 				cap = cap ? 2 * cap : 64;
@@ -142,6 +147,8 @@ int main(int argc, char **argv)
 		}
 		n++;
 		mesh_free(m);
+		if (o.prefix == NULL)
+			break;   /* the stream ended: read ahead above */
 	}
 	if (n == 0)
 		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
