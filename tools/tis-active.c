@@ -59,7 +59,8 @@ static const char help[] =
 	"  --watch K,K,...    network: junctions K (input numbers) in the trace\n"
 	"                     (columns l_K, dg_K)\n"
 	"  --events FILE      TSV of every T1\n"
-	"  --every T          also write the mesh every T time units (one junction)\n"
+	"  --every T          also write the mesh every T time units (one junction\n"
+	"                     or --network, not --random or --list)\n"
 	"  -h, --help         this help\n"
 	"  --version          print the version\n";
 
