@@ -13,7 +13,7 @@
 static const char usage[] =
 	"[--p0 X] [--ka Y] [--ftol F] [--maxeval N] [--algo NAME] [--no-polish]\n"
 	"       [--no-precond] [--precond KIND] [--block N]\n"
-	"       [--overlap L] [--accept] [-q] [MESH]";
+	"       [--overlap L] [--accept] [--strict] [-q] [MESH]";
 static const char help[] =
 	"Minimize the vertex-model energy W over all vertex positions at fixed\n"
 	"topology and write the relaxed mesh to stdout.  Every mesh of the input\n"

@@ -11,7 +11,7 @@
 
 static const char usage[] =
 	"[--seed S] [--aspect R | --box LX LY] [--lloyd K] [--p0 X] [--ka Y] N\n"
-	"       tis-voronoi --points FILE [--box LX LY | --aspect R] [--lloyd K] [--p0 X] [--ka Y]";
+	"       tis-voronoi --points FILE [--aspect R | --box LX LY] [--lloyd K] [--p0 X] [--ka Y]";
 static const char help[] =
 	"Write the Voronoi tissue of N random seeds (or of the seeds in FILE) in a\n"
 	"periodic box as a tismesh 1 mesh on stdout: one cell per seed, 2N vertices\n"
