@@ -25,11 +25,30 @@ static void transpose(double *a, int n)
 		}
 }
 
+double mesh_hessian_eigen_bytes(int nv, int solver)
+{
+	double n = 2.0 * nv;
+	if (solver == HESS_EIG_GSL)
+		return 8 * (n * n + n) + 8 * (n * n + 1) + 8 * 4 * n;
+	return 8 * (n * n + n) + 8 * (2 * n * n + 6 * n + 1) + 4 * (5 * n + 3);
+}
+
+int mesh_hessian_eigen_check(const mesh *m, int solver, mesh_error *err)
+{
+	if (solver == HESS_EIG_LAPACK && m->nv > HESS_EIG_LAPACK_MAXNV)
+		return mesh_error_set(err, 0, MESH_EDOM,
+		                      "a %d-vertex tissue is too large for LAPACK's dsyevd (at most "
+		                      "%d vertices: its workspace size overflows a 32-bit integer); "
+		                      "gsl_eigen_symmv has no such limit", m->nv, HESS_EIG_LAPACK_MAXNV);
+	return MESH_OK;
+}
+
 int mesh_hessian_eigen(const mesh *m, const double *r, const model *p, int solver,
                        double *d, double *u)
 {
 	int n = 2 * m->nv;
-	if (solver != HESS_EIG_LAPACK && solver != HESS_EIG_GSL)
+	if ((solver != HESS_EIG_LAPACK && solver != HESS_EIG_GSL) ||
+	    mesh_hessian_eigen_check(m, solver, NULL) != MESH_OK)
 		return MESH_EDOM;
 	if (solver == HESS_EIG_LAPACK) {
 		/* In place, and column-major: LAPACKE's row-major call works on

@@ -220,7 +220,7 @@ int main(int argc, char **argv)
 		if (o.linear) {
 			fl_linear *lr;
 			mesh_error err;
-			if (fl_linear_alloc(m, &p, 1e-10, &lr, &err) != MESH_OK)
+			if (fl_linear_alloc(m, &p, 1e-10, INFINITY, &lr, &err) != MESH_OK)
 				cli_die(EXIT_INPUT, "%s", err.msg);
 			fl_linear_write(stdout, lr, m, p.p0, sel, count);
 			fl_linear_free(lr);
