@@ -54,9 +54,12 @@ struct bdf {
 	spsym *amat;          /* gamma K, the pattern of H */
 	spchol *chol;
 	double *kval;         /* K's values at the last Jacobian */
+	/* cvec, gvec and z only with the Schur complement (na <= SCHUR_MAX):
+	 * without it they would be na x 2nv doubles, for a network
+	 * 48 nv^2 bytes, and the preconditioner needs none of them */
 	double *cvec;         /* na x 2nv: c_k */
 	double *gvec;         /* na x 2nv: g_k (dense, for the Schur products) */
-	double *ediag;        /* na x na: E */
+	double *ediag;        /* na x na: E (without Schur: its diagonal) */
 	double *z;            /* na x 2nv: A^{-1} g_k */
 	double *schur;        /* na x na LU */
 	int *piv;
@@ -136,8 +139,22 @@ static int roots(realtype t, N_Vector yv, realtype *gout, void *data)
 	return 0;
 }
 
+/* ldot_k = g_k . f for g_k = (-e at va, e at vb): its four products
+ * added in index order, the sum the dense product over 2 nv gives. */
+static double ldot_sparse(const double e[2], const double *f, int va, int vb)
+{
+	int lo = va < vb ? va : vb, hi = va < vb ? vb : va;
+	double sl = va < vb ? -1 : 1;
+	double s = 0;
+	s += sl * e[0] * f[2 * lo];
+	s += sl * e[1] * f[2 * lo + 1];
+	s += -sl * e[0] * f[2 * hi];
+	s += -sl * e[1] * f[2 * hi + 1];
+	return s;
+}
+
 /* K = H + sum_k s_k grad^2 l_k into hs->h; c_k, g_k and E at y (f = dr/dt
- * there). */
+ * there); without the Schur complement only K and E's diagonal. */
 static void jacobian(act *a, const double *y, const double *f)
 {
 	bdf *b = a->b;
@@ -173,6 +190,8 @@ static void jacobian(act *a, const double *y, const double *f)
 						}
 				}
 		}
+		if (!b->use_schur)
+			continue;
 		double *g = b->gvec + (size_t)k * n2;
 		memset(g, 0, (size_t)n2 * sizeof *g);
 		g[2 * va] = -e[0];
@@ -187,6 +206,10 @@ static void jacobian(act *a, const double *y, const double *f)
 		double l = act_jvec(m, b->r, j, d);
 		double e[2] = { d[0] / l, d[1] / l };
 		double s = y[n2 + k], w = g0 + s;
+		if (!b->use_schur) {
+			b->ediag[k] = w / l * 2 - rate - ldot_sparse(e, f, va, vb) / l;
+			continue;
+		}
 		const double *g = b->gvec + (size_t)k * n2;
 		double ldot = 0;
 		for (int i = 0; i < n2; i++)
@@ -204,18 +227,14 @@ static void jacobian(act *a, const double *y, const double *f)
 		c[2 * va + 1] -= w / l * pf[1];
 		c[2 * vb] += w / l * pf[0];
 		c[2 * vb + 1] += w / l * pf[1];
-		if (b->use_schur) {
-			for (int q = 0; q < na; q++) {
-				const double *gq = b->gvec + (size_t)q * n2;
-				int jq = a->aj[q];
-				int qa = m->jv[2 * jq], qb = m->jv[2 * jq + 1];
-				/* g_k . g_q: the four entries of g_q */
-				double gg = g[2 * qa] * gq[2 * qa] + g[2 * qa + 1] * gq[2 * qa + 1] +
-					    g[2 * qb] * gq[2 * qb] + g[2 * qb + 1] * gq[2 * qb + 1];
-				b->ediag[(size_t)k * na + q] = w / l * gg - (k == q ? rate + ldot / l : 0);
-			}
-		} else {
-			b->ediag[k] = w / l * 2 - rate - ldot / l;
+		for (int q = 0; q < na; q++) {
+			const double *gq = b->gvec + (size_t)q * n2;
+			int jq = a->aj[q];
+			int qa = m->jv[2 * jq], qb = m->jv[2 * jq + 1];
+			/* g_k . g_q: the four entries of g_q */
+			double gg = g[2 * qa] * gq[2 * qa] + g[2 * qa + 1] * gq[2 * qa + 1] +
+				    g[2 * qb] * gq[2 * qb] + g[2 * qb + 1] * gq[2 * qb + 1];
+			b->ediag[(size_t)k * na + q] = w / l * gg - (k == q ? rate + ldot / l : 0);
 		}
 	}
 }
@@ -390,9 +409,10 @@ int bdf_alloc(act *a, mesh_error *err)
 	b->tmp = malloc(n2 * sizeof *b->tmp);
 	b->dg = calloc(nj, sizeof *b->dg);
 	b->ws = energy_ws_alloc(m);
-	b->cvec = malloc(nas * n2 * sizeof *b->cvec);
-	b->gvec = malloc(nas * n2 * sizeof *b->gvec);
-	b->z = b->use_schur ? malloc(nas * n2 * sizeof *b->z) : malloc(sizeof *b->z);
+	size_t nrow = b->use_schur ? nas * n2 : 1;
+	b->cvec = malloc(nrow * sizeof *b->cvec);
+	b->gvec = malloc(nrow * sizeof *b->gvec);
+	b->z = malloc(nrow * sizeof *b->z);
 	b->ediag = malloc((b->use_schur ? nas * nas : nas) * sizeof *b->ediag);
 	b->schur = malloc((b->use_schur ? nas * nas : nas) * sizeof *b->schur);
 	b->piv = malloc(nas * sizeof *b->piv);

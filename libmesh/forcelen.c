@@ -800,12 +800,27 @@ static int lin_fail(mesh_error *err, int st, const char *msg)
 	return st;
 }
 
-int fl_linear_alloc(const mesh *m, const model *p, double zerotol,
+double fl_linear_bytes(const mesh *m)
+{
+	return mesh_hessian_eigen_bytes(m->nv, HESS_EIG_LAPACK) + 4 * (2.0 * m->nv);
+}
+
+int fl_linear_fits(const mesh *m, double max_bytes, mesh_error *err)
+{
+	int st = mesh_memory_check(m, fl_linear_bytes(m), max_bytes,
+	                           "the exact linear response (a dense hessian decomposition)", err);
+	return st == MESH_OK ? mesh_hessian_eigen_check(m, HESS_EIG_LAPACK, err) : st;
+}
+
+int fl_linear_alloc(const mesh *m, const model *p, double zerotol, double max_bytes,
                     fl_linear **out, mesh_error *err)
 {
 	*out = NULL;
 	if (!(zerotol >= 0) || !(zerotol < 1))
 		return lin_fail(err, MESH_EDOM, "zero-mode tolerance must be in [0, 1)");
+	int fit = fl_linear_fits(m, max_bytes, err);
+	if (fit != MESH_OK)
+		return fit;
 	int n = 2 * m->nv;
 	fl_linear *lr = calloc(1, sizeof *lr);
 	if (lr)

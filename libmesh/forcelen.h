@@ -115,9 +115,18 @@ double fl_force(const mesh *m, const double *r, const model *p, int j,
  * can change at no cost to second order and a1 = 0 (a floppy junction).
  * The answer means something only at a force-balanced state with no
  * negative modes: nneg reports those.  The caller must have turned off
- * GSL's aborting error handler. */
+ * GSL's aborting error handler.
+ *
+ * The decomposition's memory grows as nv^2: fl_linear_bytes (its peak:
+ * mesh_hessian_eigen_bytes and the modes' kinds, 24 n^2 + 80 n + 20
+ * bytes, n = 2 nv).  fl_linear_alloc refuses, before it allocates, with
+ * MESH_ETOOBIG if that is more than max_bytes (INFINITY: no limit) and
+ * with MESH_EDOM if the mesh is too large for dsyevd
+ * (mesh_hessian_eigen_check); fl_linear_fits says the same first. */
 typedef struct fl_linear fl_linear;
-int fl_linear_alloc(const mesh *m, const model *p, double zerotol,
+double fl_linear_bytes(const mesh *m);
+int fl_linear_fits(const mesh *m, double max_bytes, mesh_error *err);
+int fl_linear_alloc(const mesh *m, const model *p, double zerotol, double max_bytes,
                     fl_linear **out, mesh_error *err);
 void fl_linear_free(fl_linear *lr);
 

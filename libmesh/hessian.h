@@ -40,10 +40,31 @@ int mesh_hessian(const mesh *m, const double *r, const model *p, double *h);
  * mode of d[k]).  HESS_EIG_LAPACK is LAPACK's dsyevd (divide and conquer,
  * through LAPACKE; OpenBLAS here), HESS_EIG_GSL gsl_eigen_symmv: dsyevd is
  * about 7 times faster at n = 1296 and 20 times at 2592 (bench/RESULTS.md).
- * MESH_ENOMEM, MESH_ENOCONV (the solver failed), MESH_EDOM (solver). */
+ * MESH_ENOMEM, MESH_ENOCONV (the solver failed), MESH_EDOM (solver, or a
+ * mesh too large for dsyevd: mesh_hessian_eigen_check). */
 enum hess_eig_solver { HESS_EIG_LAPACK, HESS_EIG_GSL };
 int mesh_hessian_eigen(const mesh *m, const double *r, const model *p, int solver,
                        double *d, double *u);
+
+/* The memory of that decomposition at its peak, in bytes, for a mesh of
+ * nv vertices (n = 2 nv): d and u, which the caller allocates, and the
+ * solver's workspace.  dsyevd's is 1 + 6n + 2n^2 doubles and 3 + 5n
+ * ints, so 24 n^2 + 76 n + 20 bytes in all (a 3200-vertex tissue
+ * 0.98 GB, 20000 vertices 38.4 GB); gsl_eigen_symmv works on a copy of H
+ * and 4n doubles: 16 n^2 + 40 n + 8.  Building the Hessian takes O(n)
+ * more (a vector and mesh_hessvec's scratch), not counted.  Time grows
+ * as n^3 (bench/RESULTS.md). */
+double mesh_hessian_eigen_bytes(int nv, int solver);
+
+/* dsyevd's workspace size is a 32-bit LAPACK integer: beyond n = 32766
+ * it overflows, LAPACK's own workspace query answers too little and
+ * dsyevd would write past the end. */
+#define HESS_EIG_LAPACK_MAXNV 16383
+
+/* MESH_OK if solver can decompose the Hessian of m at all; MESH_EDOM with
+ * a message for dsyevd on more than HESS_EIG_LAPACK_MAXNV vertices (GSL
+ * has no such limit, only its time). */
+int mesh_hessian_eigen_check(const mesh *m, int solver, mesh_error *err);
 
 /* The exact Hessian as a sparse matrix, for preconditioners: each cell
  * couples every pair of its vertices (a dense 2n x 2n block per n-gon), so

@@ -27,6 +27,39 @@ int mesh_error_set(mesh_error *err, long line, int status, const char *fmt, ...)
 	return status;
 }
 
+/* bytes in the unit that gives it one to four digits before the point,
+ * or (exact) in bytes */
+static void format_bytes(char *buf, size_t size, double b, int exact)
+{
+	static const char *const unit[] = { "bytes", "kB", "MB", "GB", "TB" };
+	int u = 0;
+	while (!exact && u < 4 && b >= 1000) {
+		b /= 1000;
+		u++;
+	}
+	snprintf(buf, size, u ? "%.1f %s" : "%.0f %s", b, unit[u]);
+}
+
+int mesh_memory_check(const mesh *m, double bytes, double max_bytes, const char *what,
+                      mesh_error *err)
+{
+	if (!(max_bytes > 0))
+		return mesh_error_set(err, 0, MESH_EDOM, "memory limit must be > 0");
+	if (bytes <= max_bytes)
+		return MESH_OK;
+	char need[48], have[48];
+	format_bytes(need, sizeof need, bytes, 0);
+	format_bytes(have, sizeof have, max_bytes, 0);
+	if (strcmp(need, have) == 0) {
+		/* rounded to the same: the difference is in the last digits */
+		format_bytes(need, sizeof need, bytes, 1);
+		format_bytes(have, sizeof have, max_bytes, 1);
+	}
+	return mesh_error_set(err, 0, MESH_ETOOBIG,
+	                      "a %d-vertex tissue needs %s for %s, more than the limit of %s",
+	                      m->nv, need, what, have);
+}
+
 static void free_derived(mesh *m)
 {
 	free(m->cimg);

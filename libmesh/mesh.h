@@ -22,7 +22,9 @@ enum mesh_status {
 	MESH_ENOMEM = 2,   /* allocation failed */
 	MESH_EIO = 3,      /* read or write error */
 	MESH_ENOCONV = 4,  /* an iterative method did not reach its tolerance */
-	MESH_EDOM = 5      /* argument out of range */
+	MESH_EDOM = 5,     /* argument out of range */
+	MESH_ETOOBIG = 6   /* the job needs more memory than the caller allows
+	                      (refused before anything is allocated) */
 };
 
 typedef struct {
@@ -101,6 +103,17 @@ typedef struct mesh {
  * status: the one way every libmesh module reports a failure. */
 int mesh_error_set(mesh_error *err, long line, int status, const char *fmt, ...)
 	__attribute__((format(printf, 4, 5)));
+
+/* Whether a job on m that needs bytes of memory fits in max_bytes (the
+ * caller's limit, INFINITY for none): MESH_OK, or MESH_ETOOBIG with "a
+ * NV-vertex tissue needs X GB for WHAT, more than the limit of Y GB"
+ * (kB, MB, GB or TB, 10^3 apart; bytes where X and Y would read the
+ * same); MESH_EDOM if max_bytes is not > 0.
+ * Dense work grows as nv^2 in memory (and nv^3 in time): its callers
+ * refuse up front, with a clean message, what would otherwise fail after
+ * minutes, or be killed by the kernel. */
+int mesh_memory_check(const mesh *m, double bytes, double max_bytes, const char *what,
+                      mesh_error *err);
 
 /* A new empty mesh (no vertices, no cells) in an lx by ly box. */
 mesh *mesh_alloc(double lx, double ly);

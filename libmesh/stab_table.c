@@ -77,6 +77,15 @@ int stab_rows(const stab_table *t, const stab_decomp *sd, const int *sel, int co
 {
 	int nneg = stab_decomp_nneg(sd);
 	*dense_failed = 0;
+	/* refused here, not in the first row's dense check, which would
+	 * leave the row half written */
+	if (t->grid->dense) {
+		int st = stab_fits(t->m, t->o, STAB_JOB_DENSE, err);
+		if (st != MESH_OK) {
+			*dense_failed = 1;
+			return st;
+		}
+	}
 	for (int k = 0; k < count && !(stop && *stop); k++) {
 		stab_jn_set(sd, t->m, sel[k], jn);
 		for (int r = 0; r < t->grid->nrate && !(stop && *stop); r++) {

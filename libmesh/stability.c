@@ -27,6 +27,52 @@ void stab_opts_init(stab_opts *o)
 	o->ftol = 1e-8;
 	o->zerotol = 1e-10;
 	o->solver = STAB_LAPACK;
+	o->max_bytes = INFINITY;
+}
+
+/* dgeev's workspace for eigenvectors of an N x N matrix, in doubles, from
+ * LAPACK's own query (which reads no array); its documented minimum 4N if
+ * the query fails. */
+static double dgeev_work(int N)
+{
+	double a = 0, wr, wi, vr, q;
+	lapack_int info = LAPACKE_dgeev_work(LAPACK_COL_MAJOR, 'N', 'V', N, &a, N, &wr, &wi,
+	                                     NULL, 1, &vr, N, &q, -1);
+	return info == 0 && q >= 4.0 * N ? q : 4.0 * N;
+}
+
+/* One dense solve of a Jacobian of size N (dense_run): J, its
+ * eigenvectors vr, the transposed copies LAPACKE's row-major dgeev makes
+ * of both, wr, wi and dgeev's workspace. */
+static double dense_bytes(int N)
+{
+	double n = N;
+	return 8 * (4 * n * n + 2 * n) + 8 * dgeev_work(N);
+}
+
+double stab_bytes(const mesh *m, int solver, int job)
+{
+	double n = 2.0 * m->nv, decomp = mesh_hessian_eigen_bytes(m->nv, solver);
+	if (job == STAB_JOB_NETWORK)
+		return dense_bytes(2 * m->nv + m->nj) + 4.0 * m->nj;
+	if (job == STAB_JOB_DENSE)
+		return fmax(decomp, 8 * (n * n + 3 * n) + dense_bytes(2 * m->nv + 1));
+	return decomp;
+}
+
+int stab_fits(const mesh *m, const stab_opts *o, int job, mesh_error *err)
+{
+	static const char *const what[] = {
+		"the dense hessian decomposition",
+		"the dense hessian decomposition and jacobian checks",
+		"the dense network jacobian"
+	};
+	if (job < STAB_JOB_DECOMP || job > STAB_JOB_NETWORK)
+		return mesh_error_set(err, 0, MESH_EDOM, "unknown job");
+	int st = mesh_memory_check(m, stab_bytes(m, o->solver, job), o->max_bytes, what[job], err);
+	if (st == MESH_OK && job != STAB_JOB_NETWORK)
+		st = mesh_hessian_eigen_check(m, o->solver, err);
+	return st;
 }
 
 int stab_fmax(const mesh *m, const model *p, double *fmax)
@@ -65,12 +111,15 @@ int stab_decomp_alloc(const mesh *m, const model *p, const stab_opts *o,
                       stab_decomp **out, mesh_error *err)
 {
 	*out = NULL;
-	double fmax;
-	int st = check_balance(m, p, o, &fmax, err);
-	if (st != MESH_OK)
-		return st;
 	if (o->solver != STAB_LAPACK && o->solver != STAB_GSL)
 		return mesh_error_set(err, 0, MESH_EDOM, "unknown eigensolver");
+	int st = stab_fits(m, o, STAB_JOB_DECOMP, err);
+	if (st != MESH_OK)
+		return st;
+	double fmax;
+	st = check_balance(m, p, o, &fmax, err);
+	if (st != MESH_OK)
+		return st;
 	int n = 2 * m->nv;
 	if (n == 0)
 		return mesh_error_set(err, 0, MESH_EDOM, "empty mesh");
@@ -602,12 +651,15 @@ static int dense_leading(int N, int n, double *J, double *re, double *im, mesh_e
 	return st;
 }
 
-static int dense_run(const mesh *m, const model *p, const stab_opts *o,
+static int dense_run(const mesh *m, const model *p, const stab_opts *o, int job,
                      const int *sel, int nt, double rate, double gamma0,
                      double *re, double *im, mesh_error *err)
 {
+	int st = stab_fits(m, o, job, err);
+	if (st != MESH_OK)
+		return st;
 	double fmax;
-	int st = check_balance(m, p, o, &fmax, err);
+	st = check_balance(m, p, o, &fmax, err);
 	if (st != MESH_OK)
 		return st;
 	if (!(rate > 0) || !isfinite(rate) || !(gamma0 >= 0) || !isfinite(gamma0))
@@ -629,7 +681,7 @@ int stab_dense_leading(const mesh *m, const model *p, const stab_opts *o,
 {
 	if (j < 0 || j >= m->nj)
 		return mesh_error_set(err, 0, MESH_EDOM, "no junction %d", j);
-	return dense_run(m, p, o, &j, 1, rate, gamma0, re, im, err);
+	return dense_run(m, p, o, STAB_JOB_DENSE, &j, 1, rate, gamma0, re, im, err);
 }
 
 int stab_network_leading(const mesh *m, const model *p, const stab_opts *o,
@@ -641,7 +693,7 @@ int stab_network_leading(const mesh *m, const model *p, const stab_opts *o,
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	for (int j = 0; j < m->nj; j++)
 		sel[j] = j;
-	int st = dense_run(m, p, o, sel, m->nj, rate, gamma0, re, im, err);
+	int st = dense_run(m, p, o, STAB_JOB_NETWORK, sel, m->nj, rate, gamma0, re, im, err);
 	free(sel);
 	return st;
 }

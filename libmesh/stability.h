@@ -37,7 +37,10 @@
  * One decomposition (stab_decomp) serves every junction and every (r, g0).
  * The decomposition is dense: LAPACK dsyevd (OpenBLAS) by default, GSL's
  * gsl_eigen_symmv on request; bench/RESULTS.md has the measurement that
- * chose it.  The caller must have turned off GSL's aborting error handler.
+ * chose it.  Its memory grows as nv^2 and its time as nv^3, so every
+ * dense computation here is checked against a memory limit the caller
+ * gives (stab_opts.max_bytes, stab_fits) before anything is allocated.
+ * The caller must have turned off GSL's aborting error handler.
  */
 #ifndef TIS_STABILITY_H
 #define TIS_STABILITY_H
@@ -57,16 +60,48 @@ typedef struct {
 	double zerotol;   /* |d| <= zerotol * max|d| is a zero mode (1e-10),
 	                     d < -zerotol * max|d| a negative mode */
 	int solver;       /* enum stab_solver (STAB_LAPACK) */
+	double max_bytes; /* the most memory the dense work may take (INFINITY:
+	                     no limit); beyond it, MESH_ETOOBIG (stab_fits) */
 } stab_opts;
 
 void stab_opts_init(stab_opts *o);
+
+/* The dense computations, by what they hold at their peak (n = 2 nv; N
+ * the size of a Jacobian; w(N) dgeev's workspace in doubles, as LAPACK's
+ * own query gives it: 130 N with Debian's OpenBLAS 0.3.21):
+ *
+ *   STAB_JOB_DECOMP   stab_decomp_alloc (and the rows from it):
+ *                     mesh_hessian_eigen_bytes, 24 n^2 + 76 n + 20 bytes
+ *                     with dsyevd, 16 n^2 + 40 n + 8 with GSL
+ *   STAB_JOB_DENSE    stab_rows with dense (and stab_dense_leading): the
+ *                     larger of that and the modes and poles it holds,
+ *                     8 (n^2 + 3 n), beside one dense check at N = n + 1:
+ *                     J and its eigenvectors, LAPACKE's transposed copies
+ *                     of both, 8 (4 N^2 + 2 N + w(N))
+ *   STAB_JOB_NETWORK  stab_network_leading: the same dense solve at
+ *                     N = n + nj, and 4 nj
+ *
+ * The mesh and the rest of the program are extra (a few hundred bytes a
+ * vertex; bench/RESULTS.md has the measured peaks). */
+enum stab_job { STAB_JOB_DECOMP, STAB_JOB_DENSE, STAB_JOB_NETWORK };
+double stab_bytes(const mesh *m, int solver, int job);
+
+/* MESH_OK if job can be done on m with the options o: MESH_ETOOBIG with
+ * a message (mesh_memory_check) if stab_bytes is more than o->max_bytes,
+ * MESH_EDOM with one if the mesh is too large for dsyevd
+ * (mesh_hessian_eigen_check) or the limit is not > 0.  stab_decomp_alloc,
+ * stab_rows (with dense), stab_dense_leading and stab_network_leading
+ * check this before they allocate; a program calls it first to refuse
+ * before it writes anything. */
+int stab_fits(const mesh *m, const stab_opts *o, int job, mesh_error *err);
 
 /* The eigendecomposition of the Hessian of m at m->r and model p. */
 typedef struct stab_decomp stab_decomp;
 
 /* MESH_EDOM with a message if the mesh is not at force balance (largest
- * vertex force > o->ftol) or an option is out of range; MESH_ENOMEM;
- * MESH_ENOCONV if the eigensolver failed.  A Hessian with negative modes
+ * vertex force > o->ftol) or an option is out of range; MESH_ETOOBIG
+ * (stab_fits, STAB_JOB_DECOMP); MESH_ENOMEM; MESH_ENOCONV if the
+ * eigensolver failed.  A Hessian with negative modes
  * is decomposed (stab_decomp_nneg says how many), but no threshold is
  * computed from it. */
 int stab_decomp_alloc(const mesh *m, const model *p, const stab_opts *o,
@@ -149,7 +184,8 @@ double stab_jn_a1(const stab_jn *jn);
  * with LAPACK dgeev (eigenvectors included), O(n^3).  "Non-passive"
  * eigenvalues are those whose eigenvector has tension components of
  * norm > 1e-8 (the eigenvector has norm 1): passive modes move vertices
- * only.  Same balance check as stab_decomp_alloc. */
+ * only.  Same balance check as stab_decomp_alloc, and the memory check
+ * of stab_fits (STAB_JOB_DENSE, STAB_JOB_NETWORK): MESH_ETOOBIG. */
 
 /* J above, (2 nv + 1)^2 values row-major into J. */
 int stab_jacobian(const mesh *m, const model *p, int j, double rate,
@@ -209,7 +245,8 @@ typedef struct {
  * poles (stab_jn_alloc(2 nv)).  The rows end early when *stop becomes
  * nonzero.  MESH_ENOCONV if a root-find failed; the error of a dense
  * check ("dense check: ...", *dense_failed set), which ends the table in
- * the middle of its row. */
+ * the middle of its row; with dense, stab_fits(STAB_JOB_DENSE) first
+ * (*dense_failed set, no row written). */
 int stab_rows(const stab_table *t, const stab_decomp *sd, const int *sel, int count,
               stab_jn *jn, const volatile sig_atomic_t *stop, int *dense_failed,
               mesh_error *err);

@@ -77,7 +77,7 @@ int main(void)
 	double slope = (pp->f - pm->f) / (2 * h);
 	double w2 = -2 * (pp->W - 2 * pts[0].W + pm->W) / (h * h);
 	fl_linear *lr;
-	ok(fl_linear_alloc(m, &p, 1e-10, &lr, &err) == MESH_OK, "linear response set up");
+	ok(fl_linear_alloc(m, &p, 1e-10, INFINITY, &lr, &err) == MESH_OK, "linear response set up");
 	fl_lin_result lin;
 	fl_linear_a1(lr, m, j, &lin);
 	ok(lin.nzero == 0 && lin.nneg == 0, "stable honeycomb: no zero modes but the translations, none negative");
@@ -214,7 +214,7 @@ int main(void)
 	/* Above p_hex the honeycomb is not a minimum: the linear response
 	 * reports negative modes instead of a meaningless a1. */
 	model hi = { .p0 = 3.9, .ka = 100 };
-	fl_linear_alloc(m, &hi, 1e-10, &lr, &err);
+	fl_linear_alloc(m, &hi, 1e-10, INFINITY, &lr, &err);
 	fl_linear_a1(lr, m, j, &lin);
 	ok(lin.nneg > 0, "honeycomb at p0 3.9 has negative modes (%d)", lin.nneg);
 	fl_linear_free(lr);

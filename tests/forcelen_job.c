@@ -183,7 +183,7 @@ int main(void)
 	fclose(f);
 
 	fl_linear *lr;
-	st = fl_linear_alloc(m, &p, 1e-10, &lr, &err);
+	st = fl_linear_alloc(m, &p, 1e-10, INFINITY, &lr, &err);
 	f = tmpfile();
 	fl_linear_write(f, lr, m, p.p0, sel, NSEL);
 	rewind(f);

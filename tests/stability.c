@@ -501,7 +501,7 @@ int main(void)
 	/* 7. a1 against tis-forcelen --linear's */
 	{
 		fl_linear *lr;
-		fl_linear_alloc(v, &pv, 1e-10, &lr, &err);
+		fl_linear_alloc(v, &pv, 1e-10, INFINITY, &lr, &err);
 		stab_decomp *sd = decomp(v, &pv);
 		stab_jn *q = stab_jn_alloc(2 * v->nv);
 		double worst = 0;

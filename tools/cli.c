@@ -136,6 +136,31 @@ double cli_double_range(const char *opt, const char *arg, double lo, double hi)
 	return v;
 }
 
+double cli_size(const char *opt, const char *arg)
+{
+	static const char suffix[] = "kMGT";
+	char num[64];
+	size_t len = strlen(arg);
+	double scale = 1, v;
+	const char *s = len ? strchr(suffix, arg[len - 1]) : NULL;
+	if (s) {
+		scale = pow(1000, (double)(s - suffix + 1));
+		len--;
+	}
+	if (len == 0 || len >= sizeof num)
+		v = NAN;
+	else {
+		memcpy(num, arg, len);
+		num[len] = '\0';
+		if (!range_number(num, &v))
+			v = NAN;
+	}
+	if (!(v > 0) || !isfinite(v * scale))
+		cli_usage_error("%s: not a size > 0 (bytes, or a number with k, M, G or T): '%s'",
+		                opt, arg);
+	return v * scale;
+}
+
 long cli_long(const char *opt, const char *arg, long lo, long hi)
 {
 	long v;
@@ -219,6 +244,23 @@ static double usable_bytes(void)
 	    (avail == 0 || (double)rl.rlim_cur < avail))
 		avail = (double)rl.rlim_cur;
 	return avail;
+}
+
+double cli_max_memory(const char *arg)
+{
+	if (arg)
+		return cli_size("--max-memory", arg);
+	double avail = usable_bytes();
+	return avail > 0 ? avail : INFINITY;
+}
+
+void cli_fits(int st, const mesh_error *err, int given)
+{
+	if (st == MESH_ETOOBIG)
+		cli_die(EXIT_INPUT, "%s (%s)", err->msg,
+		        given ? "--max-memory" : "the memory available now; see --max-memory");
+	if (st != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err->msg);
 }
 
 void cli_size_check(const char *what, double mem, double out)

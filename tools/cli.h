@@ -48,6 +48,11 @@ double cli_param(const char *opt, const char *arg, const char *name);
 /* --box LX LY: two numbers in range_box's range. */
 void cli_box(const char *ax, const char *ay, double *lx, double *ly);
 
+/* A size in bytes: a number > 0, alone or with one of the suffixes k, M,
+ * G, T (10^3, 10^6, 10^9, 10^12: "8G", "1.5G", "512M"); otherwise a
+ * usage error naming the option. */
+double cli_size(const char *opt, const char *arg);
+
 /* A list option: "v1,v2,..." or a range "lo:hi:n" (n points, both ends
  * included), each value finite; malloc'd, *n values.  Usage error
  * otherwise. */
@@ -118,6 +123,15 @@ mesh *cli_read_one(const char *path);
  * and announced on stderr (what it will cost) if either is above 1 GB.
  * what names the job ("tis-hex 10000 1000: 1e7 cells"). */
 void cli_size_check(const char *what, double mem, double out);
+/* The memory limit of a program's dense work (--max-memory): arg, a
+ * size (cli_size), if it is not NULL; else what the system has
+ * available now, as cli_size_check takes it (INFINITY if unknown). */
+double cli_max_memory(const char *arg);
+/* A job refused before it started (st from the library's check, such as
+ * stab_fits): exit 1 with its message, which for MESH_ETOOBIG also says
+ * where the limit came from (given: --max-memory); nothing if st is
+ * MESH_OK. */
+void cli_fits(int st, const mesh_error *err, int given);
 /* Whether m, written and read back, passes the reader's checks: MESH_OK,
  * or the reader's error. */
 int cli_mesh_check(const mesh *m, mesh_error *err);

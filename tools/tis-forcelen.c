@@ -47,6 +47,9 @@ static const char help[] =
 	"  --linear         instead of sweeps, the exact linear response\n"
 	"                   a1 = -2/(g^T H^+ g) per junction (table p0 j a b l0 a1\n"
 	"                   nzero nneg)\n"
+	"  --max-memory SIZE  with --linear: refuse a mesh whose decomposition needs\n"
+	"                   more (bytes, or with k, M, G, T: 8G); default the memory\n"
+	"                   available now\n"
 	"  --threads N      worker threads (2)\n"
 	"  -h, --help       this help\n"
 	"  --version        print the version\n"
@@ -60,6 +63,8 @@ struct opts {
 	cli_model_opts mo;
 	fl_opts fl;
 	int relax, linear, threads;
+	const char *max_memory;   /* --max-memory, NULL: the memory available */
+	double max_bytes;
 	const char *input;
 };
 
@@ -67,7 +72,7 @@ static struct opts parse(int argc, char **argv)
 {
 	enum { O_P0 = 256, O_KA, O_STEP, O_RANGE, O_LMIN, O_NOBACK, O_PRED, O_TOL,
 	       O_ALGO, O_MAXEVAL, O_NORELAX, O_LINEAR, O_THREADS, O_JUNCTION,
-	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION, O_NOPC };
+	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION, O_NOPC, O_MAXMEM };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "index", required_argument, NULL, O_INDEX },
@@ -88,6 +93,7 @@ static struct opts parse(int argc, char **argv)
 		{ "no-precond", no_argument, NULL, O_NOPC },
 		{ "linear", no_argument, NULL, O_LINEAR },
 		{ "threads", required_argument, NULL, O_THREADS },
+		{ "max-memory", required_argument, NULL, O_MAXMEM },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
@@ -124,6 +130,7 @@ static struct opts parse(int argc, char **argv)
 		case O_NOPC: o.fl.min.precond = 0; break;
 		case O_LINEAR: o.linear = 1; break;
 		case O_THREADS: o.threads = (int)cli_long("--threads", optarg, 1, FL_MAXTHREADS); break;
+		case O_MAXMEM: o.max_memory = optarg; break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
 		default: cli_bad_option(argv, c);
@@ -133,6 +140,9 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("choose junctions with --junction, --index, --random or --all");
 	if (o.linear && sweep_opt)
 		cli_usage_error("--linear sweeps nothing: --%s does nothing with it", sweep_opt);
+	o.max_bytes = cli_max_memory(o.max_memory);
+	if (o.max_memory && !o.linear)
+		cli_usage_error("--max-memory is for --linear: the sweeps need no dense work");
 	if (o.fl.range / o.fl.step > 1e6)
 		cli_usage_error("--range/--step: more than 1e6 points per leg");
 	if (argc - optind > 1)
@@ -209,6 +219,10 @@ int main(int argc, char **argv)
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		nmesh++;
 		model p = cli_model(m, &o.mo);
+		mesh_error err;
+		/* before the relaxation, the header or anything dense */
+		if (o.linear)
+			cli_fits(fl_linear_fits(m, o.max_bytes, &err), &err, o.max_memory != NULL);
 		relax_input(m, &p, &o);
 		int count;
 		int *sel = select_junctions(&o, m, &count);
@@ -219,8 +233,7 @@ int main(int argc, char **argv)
 
 		if (o.linear) {
 			fl_linear *lr;
-			mesh_error err;
-			if (fl_linear_alloc(m, &p, 1e-10, &lr, &err) != MESH_OK)
+			if (fl_linear_alloc(m, &p, 1e-10, o.max_bytes, &lr, &err) != MESH_OK)
 				cli_die(EXIT_INPUT, "%s", err.msg);
 			fl_linear_write(stdout, lr, m, p.p0, sel, count);
 			fl_linear_free(lr);
@@ -233,7 +246,6 @@ int main(int argc, char **argv)
 		cli_progress_init(&u.pr);
 		fl_sweeps_io io = { write_curve, progress, &u };
 		fl_sweeps_result r;
-		mesh_error err;
 		int st = fl_sweeps(m, &p, &o.fl, sel, count, o.threads, &cli_stop, &io, &r, &err);
 		if (u.pr.tty)
 			fputc('\n', stderr);

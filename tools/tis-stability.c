@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "select.h"
@@ -10,7 +11,8 @@
 
 static const char usage[] =
 	"[--junction A B | --index K | --list FILE | --all] (--rate LIST | --tau LIST)\n"
-	"       [--gamma0 LIST] [--p0 X] [--ka Y] [--dense] [--network] [MESH]";
+	"       [--gamma0 LIST] [--p0 X] [--ka Y] [--dense] [--network] [--max-memory SIZE]\n"
+	"       [MESH]";
 static const char help[] =
 	"Linear stability of the force-free state of a tissue with one active\n"
 	"junction (paper eqs. 1-2): one eigendecomposition of the Hessian per mesh,\n"
@@ -37,6 +39,8 @@ static const char help[] =
 	"  --ftol F         largest vertex force of a balanced mesh (1e-8)\n"
 	"  --zero-tol Z     |d| <= Z max|d| is a zero mode of the Hessian (1e-10)\n"
 	"  --solver NAME    lapack (dsyevd, default) or gsl (gsl_eigen_symmv)\n"
+	"  --max-memory SIZE  refuse a mesh whose dense work needs more (bytes, or\n"
+	"                   with k, M, G, T: 8G); default the memory available now\n"
 	"  -h, --help       this help\n"
 	"  --version        print the version\n"
 	"\n"
@@ -52,13 +56,14 @@ struct opts {
 	int dense, network;
 	cli_model_opts mo;
 	stab_opts so;
+	const char *max_memory;   /* --max-memory, NULL: the memory available */
 	const char *input;
 };
 
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_JUNCTION = 256, O_INDEX, O_LIST, O_ALL, O_RATE, O_TAU, O_GAMMA0,
-	       O_P0, O_KA, O_DENSE, O_NETWORK, O_FTOL, O_ZTOL, O_SOLVER, O_VERSION };
+	       O_P0, O_KA, O_DENSE, O_NETWORK, O_FTOL, O_ZTOL, O_SOLVER, O_MAXMEM, O_VERSION };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "index", required_argument, NULL, O_INDEX },
@@ -74,6 +79,7 @@ static struct opts parse(int argc, char **argv)
 		{ "ftol", required_argument, NULL, O_FTOL },
 		{ "zero-tol", required_argument, NULL, O_ZTOL },
 		{ "solver", required_argument, NULL, O_SOLVER },
+		{ "max-memory", required_argument, NULL, O_MAXMEM },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
@@ -114,11 +120,13 @@ static struct opts parse(int argc, char **argv)
 			else
 				cli_usage_error("--solver: unknown eigensolver '%s'", optarg);
 			break;
+		case O_MAXMEM: o.max_memory = optarg; break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
 		default: cli_bad_option(argv, c);
 		}
 	}
+	o.so.max_bytes = cli_max_memory(o.max_memory);
 	if (o.rate == NULL)
 		cli_usage_error("give the rates 1/tau_m with --rate or --tau");
 	if (o.network && o.gamma0 == NULL)
@@ -144,14 +152,42 @@ static void print_header(const struct opts *o, const mesh *m)
 	cli_table_header(stdout, m, stab_columns(&g, o->network));
 }
 
+/* On a terminal, what the dense work of m will take when that is more
+ * than a few seconds: count junctions' rows, timed by the formulas
+ * measured on the 2-core AMD EPYC of bench/RESULTS.md (one BLAS thread):
+ * 1.8e-10 n^3 s for dsyevd, 2.7e-9 n^3 s for gsl_eigen_symmv (n = 2304),
+ * 5.5e-10 N^3 s per dense Jacobian (dgeev). */
+static void announce(const mesh *m, const struct opts *o, int count)
+{
+	if (!isatty(2))
+		return;
+	double n = 2.0 * m->nv, N = o->network ? n + m->nj : n + 1;
+	double points = (double)o->nrate * (o->gamma0 ? o->ngamma0 : 1);
+	double dgeev = 5.5e-10 * N * N * N, s;
+	if (o->network)
+		s = points * dgeev;
+	else
+		s = (o->so.solver == STAB_GSL ? 2.7e-9 : 1.8e-10) * n * n * n +
+		    (o->dense ? count * points * dgeev : 0);
+	if (s >= 10)
+		cli_warn("a %d-vertex tissue: about %.*f %s of dense work (as measured on the "
+		         "2-core machine of bench/RESULTS.md)", m->nv, s < 7200 ? 0 : 1,
+		         s < 120 ? s : s < 7200 ? s / 60 : s / 3600,
+		         s < 120 ? "s" : s < 7200 ? "minutes" : "hours");
+}
+
 /* Every row of one mesh; the number of negative Hessian modes. */
 static int analyse(const mesh *m, const model *p, const struct opts *o)
 {
+	/* before any of it is allocated or a line is written */
+	mesh_error err;
+	int job = o->network ? STAB_JOB_NETWORK : o->dense ? STAB_JOB_DENSE : STAB_JOB_DECOMP;
+	cli_fits(stab_fits(m, &o->so, job, &err), &err, o->max_memory != NULL);
 	if (o->network) {
+		announce(m, o, 0);
 		for (int r = 0; r < o->nrate && !cli_stop; r++)
 			for (int g = 0; g < o->ngamma0 && !cli_stop; g++) {
 				double re, im;
-				mesh_error err;
 				if (stab_network_leading(m, p, &o->so, o->rate[r], o->gamma0[g],
 				                         &re, &im, &err) != MESH_OK)
 					cli_die(EXIT_INPUT, "%s", err.msg);
@@ -162,9 +198,9 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 		return 0;
 	}
 	int count, *sel;
-	mesh_error err;
 	if (junction_select(m, &o->js, &sel, &count, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
+	announce(m, o, count);
 	stab_decomp *sd;
 	if (stab_decomp_alloc(m, p, &o->so, &sd, &err) != MESH_OK) {
 		free(sel);
