@@ -140,7 +140,9 @@ static int roots(realtype t, N_Vector yv, realtype *gout, void *data)
 }
 
 /* ldot_k = g_k . f for g_k = (-e at va, e at vb): its four products
- * added in index order, the sum the dense product over 2 nv gives. */
+ * added in index order, the sum the dense product over 2 nv gives for
+ * finite f (the zero entries' products add nothing, and the sum, which
+ * starts at +0, is never -0). */
 static double ldot_sparse(const double e[2], const double *f, int va, int vb)
 {
 	int lo = va < vb ? va : vb, hi = va < vb ? vb : va;
@@ -205,15 +207,12 @@ static void jacobian(act *a, const double *y, const double *f)
 		double d[2];
 		double l = act_jvec(m, b->r, j, d);
 		double e[2] = { d[0] / l, d[1] / l };
-		double s = y[n2 + k], w = g0 + s;
+		double s = y[n2 + k], w = g0 + s, ldot = ldot_sparse(e, f, va, vb);
 		if (!b->use_schur) {
-			b->ediag[k] = w / l * 2 - rate - ldot_sparse(e, f, va, vb) / l;
+			b->ediag[k] = w / l * 2 - rate - ldot / l;
 			continue;
 		}
 		const double *g = b->gvec + (size_t)k * n2;
-		double ldot = 0;
-		for (int i = 0; i < n2; i++)
-			ldot += g[i] * f[i];
 		/* K g = H g (grad^2 l_k g_k = 0); the other tensions' grad^2 l_m
 		 * blocks act on g_k too, which spsym_mulvec with K includes */
 		double *c = b->cvec + (size_t)k * n2;
