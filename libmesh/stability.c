@@ -60,6 +60,13 @@ double stab_bytes(const mesh *m, int solver, int job)
 	return decomp;
 }
 
+double stab_seconds(const mesh *m, int solver, int job, double ndense)
+{
+	double n = 2.0 * m->nv, N = job == STAB_JOB_NETWORK ? n + m->nj : n + 1;
+	double decomp = job == STAB_JOB_NETWORK ? 0 : (solver == STAB_GSL ? 2.7e-9 : 1.8e-10) * n * n * n;
+	return decomp + ndense * 5.5e-10 * N * N * N;
+}
+
 int stab_fits(const mesh *m, const stab_opts *o, int job, mesh_error *err)
 {
 	static const char *const what[] = {

@@ -86,6 +86,13 @@ void stab_opts_init(stab_opts *o);
 enum stab_job { STAB_JOB_DECOMP, STAB_JOB_DENSE, STAB_JOB_NETWORK };
 double stab_bytes(const mesh *m, int solver, int job);
 
+/* The time of that work, in seconds, as measured on the 2-core AMD EPYC
+ * of bench/RESULTS.md with one BLAS thread: 1.8e-10 n^3 for dsyevd,
+ * 2.7e-9 n^3 for gsl_eigen_symmv (no decomposition for
+ * STAB_JOB_NETWORK), and 5.5e-10 N^3 for each of ndense dense Jacobians
+ * (dgeev; N as above).  An estimate to announce long runs, no more. */
+double stab_seconds(const mesh *m, int solver, int job, double ndense);
+
 /* MESH_OK if job can be done on m with the options o: MESH_ETOOBIG with
  * a message (mesh_memory_check) if stab_bytes is more than o->max_bytes,
  * MESH_EDOM with one if the mesh is too large for dsyevd

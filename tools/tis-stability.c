@@ -153,22 +153,14 @@ static void print_header(const struct opts *o, const mesh *m)
 }
 
 /* On a terminal, what the dense work of m will take when that is more
- * than a few seconds: count junctions' rows, timed by the formulas
- * measured on the 2-core AMD EPYC of bench/RESULTS.md (one BLAS thread):
- * 1.8e-10 n^3 s for dsyevd, 2.7e-9 n^3 s for gsl_eigen_symmv (n = 2304),
- * 5.5e-10 N^3 s per dense Jacobian (dgeev). */
-static void announce(const mesh *m, const struct opts *o, int count)
+ * than a few seconds (stab_seconds); count junctions' rows. */
+static void announce(const mesh *m, const struct opts *o, int job, int count)
 {
 	if (!isatty(2))
 		return;
-	double n = 2.0 * m->nv, N = o->network ? n + m->nj : n + 1;
 	double points = (double)o->nrate * (o->gamma0 ? o->ngamma0 : 1);
-	double dgeev = 5.5e-10 * N * N * N, s;
-	if (o->network)
-		s = points * dgeev;
-	else
-		s = (o->so.solver == STAB_GSL ? 2.7e-9 : 1.8e-10) * n * n * n +
-		    (o->dense ? count * points * dgeev : 0);
+	double s = stab_seconds(m, o->so.solver, job,
+	                        job == STAB_JOB_NETWORK ? points : o->dense ? count * points : 0);
 	if (s >= 10)
 		cli_warn("a %d-vertex tissue: about %.*f %s of dense work (as measured on the "
 		         "2-core machine of bench/RESULTS.md)", m->nv, s < 7200 ? 0 : 1,
@@ -184,7 +176,7 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 	int job = o->network ? STAB_JOB_NETWORK : o->dense ? STAB_JOB_DENSE : STAB_JOB_DECOMP;
 	cli_fits(stab_fits(m, &o->so, job, &err), &err, o->max_memory != NULL);
 	if (o->network) {
-		announce(m, o, 0);
+		announce(m, o, job, 0);
 		for (int r = 0; r < o->nrate && !cli_stop; r++)
 			for (int g = 0; g < o->ngamma0 && !cli_stop; g++) {
 				double re, im;
@@ -200,7 +192,7 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 	int count, *sel;
 	if (junction_select(m, &o->js, &sel, &count, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
-	announce(m, o, count);
+	announce(m, o, job, count);
 	stab_decomp *sd;
 	if (stab_decomp_alloc(m, p, &o->so, &sd, &err) != MESH_OK) {
 		free(sel);
