@@ -8,9 +8,12 @@
 #   make install      PREFIX=/usr/local DESTDIR=: programs, man pages, the
 #                     library (libtis.a, include/tis/, tis.pc), documentation
 #
-# Everything is found by wildcard: a new libmesh/*.c or *.cc joins the
-# library, a new tools/tis-*.c is a program, tests/*.c a unit test,
-# tests/*.sh a program test, bench/*.sh a benchmark.
+# Everything is found by wildcard: a new libmesh/LAYER/*.c or *.cc joins
+# the library, a new tools/tis-*.c is a program, tests/*.c a unit test,
+# tests/*.sh a program test, bench/*.sh a benchmark.  The layers of
+# libmesh, bottom up, each using only those before it (tests/layers.sh
+# checks it; doc/DESIGN.md has the map):
+LAYERS = core tissue solve dynamics analysis draw
 
 VERSION = 0.1
 PREFIX ?= /usr/local
@@ -22,8 +25,9 @@ OPT ?= -O2 -march=x86-64-v2
 CFLAGS ?= $(OPT) -g
 CXXFLAGS ?= $(OPT) -g
 WARN = -Wall -Wextra
-ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -Ilibmesh -DTIS_VERSION='"$(VERSION)"' $(CFLAGS)
-ALL_CXXFLAGS = -std=c++17 $(WARN) -Ilibmesh $(CXXFLAGS)
+LIB_INC = $(LAYERS:%=-Ilibmesh/%)
+ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(LIB_INC) -DTIS_VERSION='"$(VERSION)"' $(CFLAGS)
+ALL_CXXFLAGS = -std=c++17 $(WARN) $(LIB_INC) $(CXXFLAGS)
 LIBS = -lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -llapacke -lopenblas -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread
 
 # SAN=1 builds everything with sanitizers into build-san/, apart from the
@@ -45,9 +49,9 @@ else
 O =
 endif
 
-LIB_C = $(sort $(wildcard libmesh/*.c))
-LIB_CC = $(sort $(wildcard libmesh/*.cc))
-LIB_H = $(wildcard libmesh/*.h)
+LIB_C = $(sort $(wildcard $(LAYERS:%=libmesh/%/*.c)))
+LIB_CC = $(sort $(wildcard $(LAYERS:%=libmesh/%/*.cc)))
+LIB_H = $(sort $(wildcard $(LAYERS:%=libmesh/%/*.h)))
 LIB_OBJ = $(LIB_C:%.c=$(O)%.o) $(LIB_CC:%.cc=$(O)%.o)
 LIB = $(O)libmesh/libmesh.a
 
@@ -94,7 +98,7 @@ $(O)tests/%.test: tests/%.c tests/tap.h $(LIB) $(LIB_H)
 # Program tests find the programs through TIS_BIN (and PATH).
 check: $(LIB) $(PROGS) $(UNITS)
 	TIS_BIN=$(CURDIR)/$(O)bin PATH="$(CURDIR)/$(O)bin:$$PATH" \
-	  TIS_SAN="$(SAN)" TIS_SANFLAGS="$(SANFLAGS)" \
+	  TIS_SAN="$(SAN)" TIS_SANFLAGS="$(SANFLAGS)" TIS_LIBOBJ=$(CURDIR)/$(O)libmesh \
 	  prove -j2 $(UNITS) $(SHELL_TESTS)
 
 # figures.sh and the study it draws on (disorder-a1.sh, about half an hour)
@@ -164,7 +168,7 @@ uninstall:
 	  $(MAN1:man/%=$(DESTDIR)$(PREFIX)/share/man/man1/%) \
 	  $(MAN5:man/%=$(DESTDIR)$(PREFIX)/share/man/man5/%) \
 	  $(MAN7:man/%=$(DESTDIR)$(PREFIX)/share/man/man7/%) \
-	  $(LIB_H:libmesh/%=$(DESTDIR)$(INCDIR)/%) $(DESTDIR)$(LIBDIR)/libtis.a \
+	  $(addprefix $(DESTDIR)$(INCDIR)/,$(notdir $(LIB_H))) $(DESTDIR)$(LIBDIR)/libtis.a \
 	  $(DESTDIR)$(PCDIR)/tis.pc $(addprefix $(DESTDIR)$(DOCDIR)/,$(notdir $(DOCS)) samples.md)
 	-rmdir $(DESTDIR)$(INCDIR) $(DESTDIR)$(DOCDIR) 2>/dev/null
 
@@ -184,11 +188,11 @@ FUZZDEBS = clang libclang-rt-14-dev
 
 build-fuzz/libmesh/%.o: libmesh/%.c $(LIB_H)
 	@mkdir -p $(@D)
-	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -Ilibmesh $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c -o $@ $<
+	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(LIB_INC) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c -o $@ $<
 
 build-fuzz/libmesh/%.o: libmesh/%.cc $(LIB_H)
 	@mkdir -p $(@D)
-	$(FUZZ_CXX) -std=c++17 $(WARN) -Ilibmesh $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c -o $@ $<
+	$(FUZZ_CXX) -std=c++17 $(WARN) $(LIB_INC) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c -o $@ $<
 
 $(FUZZ_LIB): $(FUZZ_LIB_OBJ)
 	rm -f $@
@@ -196,7 +200,7 @@ $(FUZZ_LIB): $(FUZZ_LIB_OBJ)
 
 build-fuzz/%: fuzz/%.c $(FUZZ_LIB) $(LIB_H) tools/cli.c tools/cli.h $(PROGS_SRC)
 	@mkdir -p $(@D)
-	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) -Ilibmesh -Itools \
+	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(LIB_INC) -Itools \
 	  -DTIS_VERSION='"$(VERSION)"' $(FUZZ_FLAGS) -fsanitize=fuzzer -c -o $@.o $<
 	$(FUZZ_CXX) $(FUZZ_FLAGS) -fsanitize=fuzzer -o $@ $@.o $(FUZZ_LIB) $(LIBS)
 
@@ -208,4 +212,4 @@ fuzz: fuzz-build
 	./fuzz/run $(FUZZ_S) $(FUZZ_BIN)
 
 clean:
-	rm -rf libmesh/*.o tools/*.o $(LIB) bin tests/*.test build-san build-check build-fuzz demo-out
+	rm -rf libmesh/*/*.o tools/*.o $(LIB) bin tests/*.test build-san build-check build-fuzz demo-out

@@ -12,9 +12,9 @@ cd "$(dirname "$0")/.."
 mkdir -p bench/out
 . bench/lib.sh
 bench_cc bench/out/energy-bench bench/energy-bench.c
-${CC:-cc} -O2 -march=x86-64-v2 -g -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh \
-	-DKERNEL_BIG_NV=0 -c libmesh/geom.c -o bench/out/geom-lean.o 2>/dev/null
-${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh \
+${CC:-cc} -O2 -march=x86-64-v2 -g -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh/core -Ilibmesh/tissue -Ilibmesh/solve -Ilibmesh/dynamics -Ilibmesh/analysis -Ilibmesh/draw \
+	-DKERNEL_BIG_NV=0 -c libmesh/tissue/geom.c -o bench/out/geom-lean.o 2>/dev/null
+${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh/core -Ilibmesh/tissue -Ilibmesh/solve -Ilibmesh/dynamics -Ilibmesh/analysis -Ilibmesh/draw \
 	bench/energy-bench.c bench/out/geom-lean.o libmesh/libmesh.a -lcholmod \
 	-lsundials_cvode -lsundials_nvecserial -lnlopt -lgsl -lgslcblas -lgmp -lmpfr \
 	-lstdc++ -lm -lpthread -o bench/out/energy-bench-lean

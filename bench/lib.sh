@@ -4,7 +4,8 @@ now() { date +%s.%N; }
 # bench_cc OUT SRC: a bench program linked against the library the build
 # made, from the top of the tree (or $top)
 bench_cc() {
-	${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -I"${top:-.}/libmesh" \
+	${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L \
+		$(for d in "${top:-.}"/libmesh/*/; do printf -- '-I%s ' "${d%/}"; done) \
 		"$2" "${top:-.}/libmesh/libmesh.a" -lcholmod -lsundials_cvode -lsundials_nvecserial \
 		-lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread -o "$1"
 }

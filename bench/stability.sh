@@ -16,7 +16,7 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/tis-bench.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . "$top/bench/lib.sh"
 mkdir -p bench/out
-${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh \
+${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh/core -Ilibmesh/tissue -Ilibmesh/solve -Ilibmesh/dynamics -Ilibmesh/analysis -Ilibmesh/draw \
 	bench/eigen-bench.c libmesh/libmesh.a -lcholmod -lsundials_cvode -lsundials_nvecserial \
 	-lnlopt -llapacke -lopenblas -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread \
 	-o bench/out/eigen-bench
