@@ -15,18 +15,6 @@
  * corrupt header cannot ask for more memory than the index type can hold. */
 #define MESH_MAX_COUNT (INT_MAX / 8)
 
-int mesh_error_set(mesh_error *err, long line, int status, const char *fmt, ...)
-{
-	if (err) {
-		va_list ap;
-		err->line = line;
-		va_start(ap, fmt);
-		vsnprintf(err->msg, sizeof err->msg, fmt, ap);
-		va_end(ap);
-	}
-	return status;
-}
-
 /* bytes in the unit that gives it one to four digits before the point,
  * or (exact) in bytes */
 static void format_bytes(char *buf, size_t size, double b, int exact)
@@ -1302,4 +1290,19 @@ int mesh_read(FILE *f, long *line, mesh **out, mesh_error *err)
 	}
 	*out = m;
 	return MESH_OK;
+}
+
+/* Move every vertex back into the box when one has left it.  The written
+ * mesh holds wrapped coordinates; a run that wraps them at every
+ * checkpoint (where a stopped run writes its mesh) computes what a run
+ * continued from that mesh computes, bit for bit. */
+void mesh_keep_wrapped(mesh *m)
+{
+	for (int v = 0; v < m->nv; v++) {
+		double x = m->r[2 * v], y = m->r[2 * v + 1];
+		if (!(x >= 0 && x < m->lx && y >= 0 && y < m->ly)) {
+			mesh_wrap(m);
+			return;
+		}
+	}
 }

@@ -15,22 +15,7 @@
 #include <stddef.h>
 #include <stdio.h>
 
-enum mesh_status {
-	MESH_OK = 0,
-	MESH_EOF = -1,     /* mesh_read: no further mesh in the stream */
-	MESH_EINVAL = 1,   /* malformed or invalid input */
-	MESH_ENOMEM = 2,   /* allocation failed */
-	MESH_EIO = 3,      /* read or write error */
-	MESH_ENOCONV = 4,  /* an iterative method did not reach its tolerance */
-	MESH_EDOM = 5,     /* argument out of range */
-	MESH_ETOOBIG = 6   /* the job needs more memory than the caller allows
-	                      (refused before anything is allocated) */
-};
-
-typedef struct {
-	long line;         /* input line the error refers to, 0 if none */
-	char msg[240];     /* lowercase, no full stop */
-} mesh_error;
+#include "status.h"
 
 typedef struct {
 	char name[32];
@@ -99,11 +84,6 @@ typedef struct mesh {
 	mesh_state *state;
 } mesh;
 
-/* Fill err (if not NULL) with line and a printf-style message, and return
- * status: the one way every libmesh module reports a failure. */
-int mesh_error_set(mesh_error *err, long line, int status, const char *fmt, ...)
-	__attribute__((format(printf, 4, 5)));
-
 /* Whether a job on m that needs bytes of memory fits in max_bytes (the
  * caller's limit, INFINITY for none): MESH_OK, or MESH_ETOOBIG with "a
  * NV-vertex tissue needs X GB for WHAT, more than the limit of Y GB"
@@ -168,6 +148,11 @@ void mesh_kernel_update(mesh *m, int c0, int c1, const int *js, int n);
 
 /* Move every vertex into [0,lx) x [0,ly) and recompute the image offsets. */
 void mesh_wrap(mesh *m);
+
+/* mesh_wrap, only if a vertex has left the box: a run that wraps at every
+ * checkpoint computes what a run continued from its written (wrapped) mesh
+ * computes, bit for bit. */
+void mesh_keep_wrapped(mesh *m);
 
 /* The junction joining vertices a and b (either order), or -1; the one
  * with the lowest number if several do (a small periodic tissue can have

@@ -13,7 +13,7 @@
 #ifndef TIS_RANGE_H
 #define TIS_RANGE_H
 
-#include "mesh.h"
+#include "status.h"
 
 #define RANGE_BOX_MIN 1e-3
 #define RANGE_BOX_MAX 1e6

@@ -1,6 +1,7 @@
 /* active.c - active junction runs: options, start state, the Euler scheme
  * (on dynamics.c) with its events; the BDF scheme is in bdf.c. */
 #include "active_int.h"
+#include "bdf.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -42,14 +43,6 @@ int act_scheme_parse(const char *name, act_scheme *s)
 			return MESH_OK;
 		}
 	return MESH_EINVAL;
-}
-
-double act_jvec(const mesh *m, const double *r, int j, double d[2])
-{
-	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
-	d[0] = r[2 * b] - r[2 * a] + m->jimg[2 * j];
-	d[1] = r[2 * b + 1] - r[2 * a + 1] + m->jimg[2 * j + 1];
-	return sqrt(d[0] * d[0] + d[1] * d[1]);
 }
 
 static int check_opts(const act_opts *o, mesh_error *err)
@@ -253,7 +246,7 @@ int act_row_at(act *a, double t, int j, act_row *row)
 		double d[2];
 		int va = m->jv[2 * j], vb = m->jv[2 * j + 1];
 		const double *g = a->row_grad;   /* the force is -g */
-		row->l = act_jvec(m, r, j, d);
+		row->l = junction_vec_sqrt(m, r, j, d);
 		row->dg = dg[j];
 		row->ldot = -(d[0] * (g[2 * vb] - g[2 * va]) + d[1] * (g[2 * vb + 1] - g[2 * va + 1])) / row->l;
 	}
@@ -271,7 +264,7 @@ int act_row_at(act *a, double t, int j, act_row *row)
 	row->dg_sd = a->na > 1 ? sqrt(s2 / (a->na - 1)) : 0;
 	double d[2];
 	for (int k = 0; k < a->nwatch; k++) {
-		a->wl[k] = act_jvec(m, r, a->watch[k], d);
+		a->wl[k] = junction_vec_sqrt(m, r, a->watch[k], d);
 		a->wdg[k] = dg[a->watch[k]];
 	}
 	row->nwatch = a->nwatch;
@@ -279,7 +272,7 @@ int act_row_at(act *a, double t, int j, act_row *row)
 	row->wdg = a->wdg;
 	row->lmin = INFINITY;
 	for (int k = 0; k < m->nj; k++) {
-		double l = act_jvec(m, r, k, d);
+		double l = junction_vec_sqrt(m, r, k, d);
 		row->lmin = l < row->lmin ? l : row->lmin;
 	}
 	return MESH_OK;
@@ -414,21 +407,6 @@ static int restore(act *a)
 	return 1;
 }
 
-/* Move every vertex back into the box when one has left it.  The written
- * mesh holds wrapped coordinates; a run that wraps them at every
- * checkpoint (where a stopped run writes its mesh) computes what a run
- * continued from that mesh computes, bit for bit. */
-void act_keep_wrapped(mesh *m)
-{
-	for (int v = 0; v < m->nv; v++) {
-		double x = m->r[2 * v], y = m->r[2 * v + 1];
-		if (!(x >= 0 && x < m->lx && y >= 0 && y < m->ly)) {
-			mesh_wrap(m);
-			return;
-		}
-	}
-}
-
 static int euler_obs(dyn *d, void *data)
 {
 	act *a = data;
@@ -450,7 +428,7 @@ static int euler_obs(dyn *d, void *data)
 		 * zero (turned over), the state before the step is the end */
 		for (int k = 0; k < a->na; k++) {
 			double v[2];
-			double l = act_jvec(m, m->r, a->aj[k], v);
+			double l = junction_vec_sqrt(m, m->r, a->aj[k], v);
 			int over = a->have_prev && v[0] * a->jprev[2 * k] + v[1] * a->jprev[2 * k + 1] <= 0;
 			if (over || !(l >= a->o.l_collapse)) {
 				if ((over || !(l > 0)) && a->have_prev)
@@ -561,10 +539,10 @@ static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end 
 	mesh *m = a->m;
 	a->why = ACT_END_TIME;
 	if (!a->have_prev) {
-		act_keep_wrapped(m);
+		mesh_keep_wrapped(m);
 		snapshot(a);
 		for (int k = 0; k < a->na; k++)
-			act_jvec(m, m->r, a->aj[k], a->jprev + 2 * k);
+			junction_vec_sqrt(m, m->r, a->aj[k], a->jprev + 2 * k);
 		a->have_prev = 1;
 	}
 	while (a->t < t_end) {
@@ -589,7 +567,7 @@ static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end 
 		}
 		if (a->why != ACT_END_TIME)
 			break;
-		act_keep_wrapped(m);
+		mesh_keep_wrapped(m);
 		if (a->c.nt1 != nt1 && (st = canonical(a, err)) != MESH_OK)
 			return st;
 		if (a->why != ACT_END_TIME)

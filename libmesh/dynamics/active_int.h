@@ -1,5 +1,5 @@
-/* active_int.h - the parts of active.c that bdf.c shares (not installed,
- * not an API). */
+/* active_int.h - the run state of active junctions, which active.c (the
+ * Euler and split schemes, and the dispatch) and bdf.c share; not an API. */
 #ifndef TIS_ACTIVE_INT_H
 #define TIS_ACTIVE_INT_H
 
@@ -40,19 +40,5 @@ struct act {
 	/* BDF */
 	bdf *b;
 };
-
-int bdf_alloc(act *a, mesh_error *err);
-void bdf_free(bdf *b);
-int bdf_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
-            mesh_error *err);
-int bdf_sample(act *a, double t, double *r, double *dg);
-
-/* Length of junction j at coordinates r (minimum image through m->jimg)
- * and its vector into d. */
-double act_jvec(const mesh *m, const double *r, int j, double d[2]);
-
-/* Wrap the coordinates into the box when a vertex has left it (what a
- * written and read mesh holds). */
-void act_keep_wrapped(mesh *m);
 
 #endif

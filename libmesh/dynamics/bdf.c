@@ -21,7 +21,7 @@
  * crossings only).  After a T1 the integrator restarts (CVodeReInit) and
  * the Hessian pattern and its ordering are made again.
  */
-#include "active_int.h"
+#include "bdf.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -111,7 +111,7 @@ static int rhs(realtype t, N_Vector yv, N_Vector ydotv, void *data)
 	for (int k = 0; k < a->na; k++) {
 		int j = a->aj[k], va = m->jv[2 * j], vb = m->jv[2 * j + 1];
 		double d[2];
-		double l = act_jvec(m, b->r, j, d);
+		double l = junction_vec_sqrt(m, b->r, j, d);
 		double ldot = (d[0] * (yd[2 * vb] - yd[2 * va]) + d[1] * (yd[2 * vb + 1] - yd[2 * va + 1])) / l;
 		double s = y[b->n2 + k];
 		yd[b->n2 + k] = -s * rate - (g0 + s) * ldot / l;
@@ -132,10 +132,10 @@ static int roots(realtype t, N_Vector yv, realtype *gout, void *data)
 	double d[2];
 	if (a->o.t1_length > 0)
 		for (int j = 0; j < m->nj; j++)
-			gout[j] = act_jvec(m, b->r, j, d) - b->thr[j];
+			gout[j] = junction_vec_sqrt(m, b->r, j, d) - b->thr[j];
 	else
 		for (int k = 0; k < a->na; k++)
-			gout[k] = act_jvec(m, b->r, a->aj[k], d) - a->o.l_collapse;
+			gout[k] = junction_vec_sqrt(m, b->r, a->aj[k], d) - a->o.l_collapse;
 	return 0;
 }
 
@@ -169,7 +169,7 @@ static void jacobian(act *a, const double *y, const double *f)
 	for (int k = 0; k < na; k++) {
 		int j = a->aj[k], va = m->jv[2 * j], vb = m->jv[2 * j + 1];
 		double d[2];
-		double l = act_jvec(m, b->r, j, d);
+		double l = junction_vec_sqrt(m, b->r, j, d);
 		double e[2] = { d[0] / l, d[1] / l };
 		double s = y[n2 + k];
 		/* grad^2 l = [[P, -P], [-P, P]], P = (I - e e^T)/l */
@@ -205,7 +205,7 @@ static void jacobian(act *a, const double *y, const double *f)
 	for (int k = 0; k < na; k++) {
 		int j = a->aj[k], va = m->jv[2 * j], vb = m->jv[2 * j + 1];
 		double d[2];
-		double l = act_jvec(m, b->r, j, d);
+		double l = junction_vec_sqrt(m, b->r, j, d);
 		double e[2] = { d[0] / l, d[1] / l };
 		double s = y[n2 + k], w = g0 + s, ldot = ldot_sparse(e, f, va, vb);
 		if (!b->use_schur) {
@@ -618,7 +618,7 @@ int bdf_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why, mes
 		 * interpolant and coordinates): the state a stopped run writes,
 		 * restarted from as a run continued from it is */
 		if (t == seg && seg < t_end) {
-			act_keep_wrapped(a->m);
+			mesh_keep_wrapped(a->m);
 			b->need_init = 1;
 		}
 		if (quit) {

@@ -33,6 +33,14 @@ double junction_vec(const mesh *m, const double *r, int j, double d[2])
 	return hypot(d[0], d[1]);
 }
 
+double junction_vec_sqrt(const mesh *m, const double *r, int j, double d[2])
+{
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+	d[0] = r[2 * b] - r[2 * a] + m->jimg[2 * j];
+	d[1] = r[2 * b + 1] - r[2 * a + 1] + m->jimg[2 * j + 1];
+	return sqrt(d[0] * d[0] + d[1] * d[1]);
+}
+
 double junction_length(const mesh *m, const double *r, int j)
 {
 	double d[2];
