@@ -1,5 +1,5 @@
 #!/bin/sh
-# The sparse Cholesky of libmesh/sparse.c on the suite's own Hessians
+# The sparse Cholesky of libmesh/solve/sparse.c on the suite's own Hessians
 # (perturbed honeycombs, p0 3.6, every coordinate displaced uniformly by up
 # to 0.05): analysis, the shifted factorizations spchol_precond tries,
 # one factorization, one solve and its residual, for the hand-written

@@ -2,7 +2,7 @@
 # tis-relax to max force 1e-10 on displaced honeycombs (p0 3.6, every
 # coordinate displaced uniformly by up to 0.05, `chol-bench perturb 0.05
 # 1`) with the complete Cholesky preconditioner and with two-level
-# Schwarz (libmesh/precond.c): 10^4 and 10^5 cells, and 10^6 cells with
+# Schwarz (libmesh/solve/precond.c): 10^4 and 10^5 cells, and 10^6 cells with
 # Schwarz when RELAX_1M=1 (3 minutes, 7 GB).  /usr/bin/time gives wall,
 # user + sys CPU and peak memory.  Results: bench/RESULTS.md (issue 16,
 # "Relaxing 10^6 cells").

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Wall time against final max force (1e-4 .. 1e-12) for every minimizer of
-# libmesh/minimize.c, with and without the Newton polish, with and without
+# libmesh/solve/minimize.c, with and without the Newton polish, with and without
 # the sparse Cholesky preconditioner of Newton-CG, on a perturbed
 # 324-cell honeycomb (p0 3.6) and an irregular 324-cell tissue (Voronoi of
 # 324 random seeds after 10 Lloyd iterations, f6 ~ 0.5) at p0 3.6, 3.72,

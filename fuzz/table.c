@@ -1,4 +1,4 @@
-/* fuzz/table.c - libFuzzer harness for the TSV reader (libmesh/table.c)
+/* fuzz/table.c - libFuzzer harness for the TSV reader (libmesh/core/table.c)
  * as tis-fit uses it: the program
  * itself (tools/tis-fit.c and tools/cli.c compiled into this file) runs on
  * every input in-process.  Its exit() (cli_die on bad input, cli_finish)

@@ -1,4 +1,4 @@
-/* Linear stability of one active junction (libmesh/stability): the
+/* Linear stability of one active junction (libmesh/analysis/stability): the
  * secular equation against the dense non-symmetric Jacobian (dgeev) on
  * honeycombs and a relaxed Voronoi tissue; the dense Jacobians against
  * central differences of the nonlinear right-hand side (the model

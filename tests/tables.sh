@@ -47,7 +47,7 @@ ok "tis-fit: without fres, fres_max is nan" test "$(tis-fit "$T/nofres.tsv" | ro
 # the text column dir: rest, out or back, nothing else
 awk -F '\t' -v OFS='\t' '$1 == $1 + 0 && !d++ { $6 = "sideways" } 1' "$T/a.tsv" >"$T/dir.tsv"
 fails_with 1 "tis-fit: a dir that is not rest, out or back" tis-fit "$T/dir.tsv"
-# one reader (libmesh/table.c): a malformed table gets the same error from
+# one reader (libmesh/core/table.c): a malformed table gets the same error from
 # tis-fit and tis-behaviour (the columns of both; tis-behaviour reads every
 # field as a number, so the fault is in the first row, before dir)
 printf '# made by hand\np0\tj\tl0\tdir\tl\tf\tt\n' >"$T/both.head"

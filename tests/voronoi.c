@@ -1,4 +1,4 @@
-/* Unit tests of libmesh/voronoi: Voronoi tissues, degenerate seeds, Lloyd. */
+/* Unit tests of libmesh/tissue/voronoi: Voronoi tissues, degenerate seeds, Lloyd. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

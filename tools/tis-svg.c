@@ -1,5 +1,5 @@
 /* tis-svg - draw a mesh as SVG, cells coloured by their number of sides
- * (libmesh/svg.c); one file per frame of a stream. */
+ * (libmesh/draw/svg.c); one file per frame of a stream. */
 #include <errno.h>
 #include <getopt.h>
 #include <limits.h>
