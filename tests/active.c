@@ -702,10 +702,8 @@ static void job(void)
 
 	mesh *moved = mesh_copy(m0);
 	moved->r[0] += 0.01;
-	double t0;
-	char rng[64];
-	ok(act_start(moved, &p, NULL, &jo, &t0, rng, sizeof rng, &err) == MESH_EINVAL &&
-	   strstr(err.msg, "not at rest") != NULL, "act_start refuses a mesh not at rest: %s", err.msg);
+	ok(act_job(moved, &p, &o, &jo, 0, NULL, NULL, &r, &err) == MESH_EINVAL &&
+	   strstr(err.msg, "not at rest") != NULL, "act_job refuses a mesh not at rest: %s", err.msg);
 	mesh_free(moved);
 	mesh_free(part);
 	mesh_free(full);

@@ -27,7 +27,7 @@ static mesh *read_str(const char *s, long *line, int *st, mesh_error *err)
 
 int main(void)
 {
-	tap_plan(23);
+	tap_plan(24);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 4, &m, &err);
@@ -137,6 +137,29 @@ int main(void)
 	mesh_state_clear(sc);
 	ok(sc->nstate == 0 && mesh_state_get(sc, "t") == NULL &&
 	   mesh_state_set(sc, "1x", "a") == MESH_EDOM, "state cleared; bad names refused");
+	/* the mark of a stopped run: same program and key continue, others
+	 * are refused naming what differs */
+	char key[256] = "", k2[256] = "";
+	mesh_run_key(key, sizeof key, "scheme", "split");
+	mesh_run_key_num(key, sizeof key, "p0", 3.65);
+	mesh_run_key_num(key, sizeof key, "tau", 1.0 / 3);
+	mesh_run_key(k2, sizeof k2, "scheme", "split");
+	mesh_run_key_num(k2, sizeof k2, "p0", 3.7);
+	mesh_run_key_num(k2, sizeof k2, "tau", 1.0 / 3);
+	mesh_run_key(k2, sizeof k2, "seed", "4");
+	int cont = -1, c2 = -1, c3 = -1;
+	mesh_error re1, re2;
+	int st0 = mesh_run_check(sc, "tis-x", key, &cont, &err);
+	ok(st0 == MESH_OK && cont == 0 && mesh_run_mark(sc, "tis-x", key) == MESH_OK &&
+	   strcmp(mesh_state_get(sc, "run"), "tis-x scheme split p0 3.65 tau 0.3333333333333333") == 0 &&
+	   mesh_run_check(sc, "tis-x", key, &c2, &err) == MESH_OK && c2 == 1 &&
+	   mesh_run_check(sc, "tis-x", k2, &c3, &re1) == MESH_EINVAL &&
+	   strstr(re1.msg, "(p0 3.65, not 3.7; seed unset, not 4)") != NULL &&
+	   mesh_run_check(sc, "tis-y", key, &c3, &re2) == MESH_EINVAL &&
+	   strstr(re2.msg, "continue it with tis-x") != NULL && mesh_run_mark(sc, "tis-x", "a\nb") == MESH_EDOM,
+	   "run mark: continued with the same key, refused with another (%s) or by another program",
+	   re1.msg);
+	mesh_state_clear(sc);
 	mesh_free(sc);
 	/* text that starts with a line break or blanks reads back as written
 	 * (fuzz/regress/mesh/history-cr-start) */

@@ -193,16 +193,16 @@ int main(int argc, char **argv)
 	cli_init("tis-anneal", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 	mesh *m = cli_read_one(o.input);
-	/* a mesh left by a stopped run continues it (dynamics.h, "Resume") */
-	int was;
-	mesh_error err;
-	if (anneal_resume(m, &o.a, &was, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
 	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
 	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
 		cli_die(EXIT_INPUT, "out of memory");
-	cli_history(m);
 	model p = model_from_mesh(m);
+	/* a mesh left by a stopped run continues it (tis(7)) */
+	int was;
+	mesh_error err;
+	if (anneal_resume(m, &p, &o.a, &was, &err) != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err.msg);
+	cli_history(m);
 
 	struct out u = { .o = &o };
 	int tty = isatty(2);

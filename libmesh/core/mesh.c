@@ -6,6 +6,7 @@
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -771,6 +772,108 @@ void mesh_state_clear(mesh *m)
 	free(m->state);
 	m->state = NULL;
 	m->nstate = 0;
+}
+
+void mesh_run_key(char *key, size_t n, const char *name, const char *text)
+{
+	size_t len = strlen(key);
+	if (len < n)
+		snprintf(key + len, n - len, "%s%s %s", len ? " " : "", name, text);
+}
+
+void mesh_run_key_num(char *key, size_t n, const char *name, double v)
+{
+	char t[32];
+	/* the shortest text that reads back to v: exact, and what a person
+	 * reading the refusal gave */
+	for (int prec = 1; prec <= 17; prec++) {
+		snprintf(t, sizeof t, "%.*g", prec, v);
+		if (strtod(t, NULL) == v)
+			break;
+	}
+	mesh_run_key(key, n, name, t);
+}
+
+int mesh_run_mark(mesh *m, const char *program, const char *key)
+{
+	if (strpbrk(key, "\n\r") || strpbrk(program, " \t\n\r") || !*program || !*key)
+		return MESH_EDOM;
+	size_t n = strlen(program) + strlen(key) + 2;
+	char *t = malloc(n);
+	if (t == NULL)
+		return MESH_ENOMEM;
+	snprintf(t, n, "%s %s", program, key);
+	int st = mesh_state_set(m, "run", t);
+	free(t);
+	return st;
+}
+
+/* The value of pair NAME in a key ("name value ..."): its start and
+ * length in *len, or NULL. */
+static const char *key_value(const char *key, const char *name, size_t nlen, size_t *len)
+{
+	for (const char *p = key; *p;) {
+		p += strspn(p, " ");
+		size_t a = strcspn(p, " ");
+		const char *v = p + a + strspn(p + a, " ");
+		size_t b = strcspn(v, " ");
+		if (a == nlen && strncmp(p, name, nlen) == 0) {
+			*len = b;
+			return v;
+		}
+		p = v + b;
+	}
+	return NULL;
+}
+
+/* Append to buf (size n) what differs between the stopped run's key a
+ * and the new one b ("name va, not vb"); with only_new the pairs of b
+ * that a lacks ("name unset, not vb"; a and b swapped). */
+static void key_diff(char *buf, size_t n, const char *a, const char *b, int only_new)
+{
+	for (const char *p = a; *p;) {
+		p += strspn(p, " ");
+		size_t na = strcspn(p, " ");
+		const char *v = p + na + strspn(p + na, " ");
+		size_t nv = strcspn(v, " "), nw = 0;
+		const char *w = key_value(b, p, na, &nw);
+		size_t len = strlen(buf);
+		int differs = only_new ? w == NULL : w == NULL || nw != nv || strncmp(v, w, nv) != 0;
+		if (na && differs && len + 1 < n) {
+			if (only_new)
+				snprintf(buf + len, n - len, "%s%.*s unset, not %.*s", len ? "; " : "",
+				         (int)na, p, (int)nv, v);
+			else
+				snprintf(buf + len, n - len, "%s%.*s %.*s, not %.*s", len ? "; " : "",
+				         (int)na, p, (int)nv, v, w ? (int)nw : 5, w ? w : "unset");
+		}
+		p = v + nv;
+	}
+}
+
+int mesh_run_check(const mesh *m, const char *program, const char *key, int *continued,
+                   mesh_error *err)
+{
+	const char *mark = mesh_state_get(m, "run");
+	*continued = 0;
+	if (mark == NULL)
+		return MESH_OK;
+	size_t np = strcspn(mark, " ");
+	const char *was = mark + np + strspn(mark + np, " ");
+	if (np != strlen(program) || strncmp(mark, program, np) != 0)
+		return mesh_error_set(err, 0, MESH_EINVAL, "the mesh holds the state of a stopped %.*s "
+		                      "run: continue it with %.*s, or remove its state lines to start "
+		                      "anew", (int)np, mark, (int)np, mark);
+	if (strcmp(was, key) != 0) {
+		char d[160] = "";
+		key_diff(d, sizeof d, was, key, 0);
+		key_diff(d, sizeof d, key, was, 1);
+		return mesh_error_set(err, 0, MESH_EINVAL, "the mesh holds the state of a %s run "
+		                      "stopped with other options (%s): give the same options to "
+		                      "continue it", program, d[0] ? d : was);
+	}
+	*continued = 1;
+	return MESH_OK;
 }
 
 int mesh_history_add(mesh *m, const char *text)

@@ -225,7 +225,8 @@ void act_opts_mode(act_opts *o, int network, int t1_set, int scheme_set);
 typedef struct {
 	double perturb;      /* s.d. of the start perturbation; < 0: the default
 	                        (ACT_PERTURB_DEFAULT at rest, 0 for a mesh that
-	                        carries tensions or run state) */
+	                        carries tensions); never applied to the state of
+	                        a stopped run */
 	unsigned long seed;  /* perturbation and noise */
 	double t_end;        /* run until this time */
 	double trace_every;  /* row interval (> 0) */
@@ -258,20 +259,18 @@ typedef struct {
 	double t_end, t_c, l_end, dg_end, lmin, lmax;
 } act_result;
 
-/* The start state of m: the time (*t0) and the noise stream (rng, "" if
- * none) of an interrupted run from its state lines, or a mesh at rest
- * (checked: MESH_EINVAL otherwise) plus the perturbation of the
- * coordinates and of the tensions of the active junctions (NULL: all).
- * MESH_EINVAL also for a bad active_t line; MESH_ENOMEM. */
-int act_start(mesh *m, const model *p, const unsigned char *active, const act_job_opts *jo,
-              double *t0, char *rng, size_t n, mesh_error *err);
-
 /* One run of m (updated in place) with junction j active (j < 0: every
- * junction) from its start state (act_start) to jo->t_end or an event,
- * rows and frames through io.  Afterwards the mesh holds the end state,
- * with state lines (active_t, active_rng, active_fresh; they replace those
- * of the run it continued) when the run was stopped or went non-finite (so
- * it can be continued), none otherwise.  MESH_OK whatever
+ * junction) to jo->t_end or an event, rows and frames through io.  It
+ * starts from a mesh at rest (checked: MESH_EINVAL otherwise) or one that
+ * carries tensions, plus the perturbation of the coordinates and of the
+ * tensions of the active junctions; or, on a mesh a stopped run left
+ * (mesh_run_check's mark with the same options), from that run's state
+ * alone, perturbed no further: its time, noise stream and fresh junctions
+ * (the state lines active_t, active_rng, active_fresh), used up.  A mesh
+ * marked by another program or with other options is refused (MESH_EINVAL,
+ * naming what differs).  Afterwards the mesh holds the end state, with
+ * the mark and the state lines when the run was stopped or went
+ * non-finite (so it can be continued), none otherwise.  MESH_OK whatever
  * r->why (ACT_END_NONFINITE: err says why), or the error of the start,
  * the integrator or the sampling. */
 int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, int j,

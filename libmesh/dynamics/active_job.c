@@ -17,24 +17,79 @@ void act_opts_mode(act_opts *o, int network, int t1_set, int scheme_set)
 		o->scheme = network ? ACT_SPLIT : ACT_EULER;
 }
 
-int act_start(mesh *m, const model *p, const unsigned char *active, const act_job_opts *jo,
-              double *t0, char *rng, size_t n, mesh_error *err)
+/* The options that shape a run of junction j (-1: all), as the key of
+ * its mark (mesh_run_check): a run continued with other options would
+ * not be the run that stopped.  --time is not among them (a stopped run
+ * may be continued further), nor the outputs. */
+static void job_key(const model *p, const act_opts *o, const act_job_opts *jo, int j, char *buf,
+                    size_t n)
 {
-	const char *ts = mesh_state_get(m, "active_t");
-	const char *rs = mesh_state_get(m, "active_rng");
+	char t[32] = "all";
+	buf[0] = '\0';
+	if (j >= 0)
+		snprintf(t, sizeof t, "%d", j);
+	mesh_run_key(buf, n, "active", t);
+	mesh_run_key(buf, n, "scheme", act_scheme_name(o->scheme));
+	mesh_run_key_num(buf, n, "tau", o->tau);
+	mesh_run_key_num(buf, n, "gamma0", o->gamma0);
+	mesh_run_key_num(buf, n, "sigma", o->sigma);
+	if (o->scheme == ACT_BDF) {
+		mesh_run_key_num(buf, n, "rtol", o->rtol);
+		mesh_run_key_num(buf, n, "checkpoint", o->checkpoint);
+	} else {
+		mesh_run_key_num(buf, n, "dt", o->dt_max);
+		mesh_run_key_num(buf, n, "dr", o->dr_max);
+	}
+	mesh_run_key_num(buf, n, "t1", o->t1_length);
+	mesh_run_key_num(buf, n, "t1_new", o->t1_new);
+	mesh_run_key_num(buf, n, "t1_again", o->t1_again);
+	mesh_run_key_num(buf, n, "collapse", o->l_collapse);
+	snprintf(t, sizeof t, "%lu", jo->seed);
+	mesh_run_key(buf, n, "seed", t);
+	if (jo->perturb >= 0)
+		mesh_run_key_num(buf, n, "perturb", jo->perturb);
+	else
+		mesh_run_key(buf, n, "perturb", "default");
+	mesh_run_key_num(buf, n, "p0", p->p0);
+	mesh_run_key_num(buf, n, "ka", p->ka);
+}
+
+/* The names of the state lines of a stopped run (act_job). */
+static const char *const state_names[] = { "run", "active_t", "active_rng", "active_fresh" };
+
+/* The start of a run: a stopped run's time, noise stream (rng, "" if
+ * none) and fresh junctions (*fresh, malloc'd, "" if none) from the state
+ * lines it left, which are used up (frames and the end carry only a new
+ * run's); or a mesh at rest (checked) plus the perturbation of the
+ * coordinates and of the tensions of the active junctions (NULL: all),
+ * with time 0 and the generator where the perturbation left it. */
+static int start(mesh *m, const model *p, const unsigned char *active, const act_job_opts *jo,
+                 int continued, double *t0, char *rng, size_t n, char **fresh, mesh_error *err)
+{
 	const char *name = jo->name ? jo->name : "<mesh>";
 	*t0 = 0;
 	rng[0] = '\0';
-	if (ts) {
-		char *end;
-		*t0 = strtod(ts, &end);
-		if (*end != '\0' || !isfinite(*t0))
-			return mesh_error_set(err, 0, MESH_EINVAL, "%s: bad state active_t '%s'",
-					      name, ts);
+	*fresh = NULL;
+	if (continued) {
+		const char *ts = mesh_state_get(m, "active_t");
+		const char *rs = mesh_state_get(m, "active_rng");
+		const char *fs = mesh_state_get(m, "active_fresh");
+		char *end = NULL;
+		if (ts)
+			*t0 = strtod(ts, &end);
+		if (ts == NULL || *end != '\0' || !isfinite(*t0) || m->dg == NULL)
+			return mesh_error_set(err, 0, MESH_EINVAL, "%s: bad state active_t '%s'", name,
+			                      ts ? ts : "(none)");
 		if (rs)
 			snprintf(rng, n, "%s", rs);
+		if ((*fresh = strdup(fs ? fs : "")) == NULL)
+			return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		for (size_t k = 0; k < sizeof state_names / sizeof state_names[0]; k++)
+			mesh_state_del(m, state_names[k]);
+		/* the stopped state as it is: no perturbation again */
+		return MESH_OK;
 	}
-	int carries = ts != NULL || m->dg != NULL;
+	int carries = m->dg != NULL;
 	double eps = jo->perturb >= 0 ? jo->perturb : carries ? 0 : ACT_PERTURB_DEFAULT;
 	if (!carries) {
 		double f = act_rest_force(m, p);
@@ -44,9 +99,8 @@ int act_start(mesh *m, const model *p, const unsigned char *active, const act_jo
 					      "p0 %g, ka %g): relax it first (tis-relax)", name, f,
 					      ACT_REST_TOL, p->p0, p->ka);
 	}
-	/* a continued run keeps its noise stream; a new one continues the
-	 * perturbation's */
-	if (act_perturb(m, active, eps, jo->seed, ts ? NULL : rng, n) != MESH_OK)
+	/* a noisy run continues the perturbation's stream */
+	if (act_perturb(m, active, eps, jo->seed, rng, n) != MESH_OK)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	return MESH_OK;
 }
@@ -111,8 +165,9 @@ static int observe(act *a, void *data)
 	return u->bad;
 }
 
-/* The state lines a continued run needs, or none for a run that ended. */
-static int record_state(mesh *m, const act *a, act_end why)
+/* The state lines a continued run needs and its mark, or none for a run
+ * that ended. */
+static int record_state(mesh *m, const act *a, act_end why, const char *key)
 {
 	if (why != ACT_END_STOP && why != ACT_END_NONFINITE) {
 		mesh_state_clear(m);
@@ -120,12 +175,9 @@ static int record_state(mesh *m, const act *a, act_end why)
 	}
 	char buf[64], rs[OU_STATE_LEN], *fresh = NULL;
 	snprintf(buf, sizeof buf, "%.17g", act_time(a));
-	/* the lines of the run this one continued, if it did, are stale: a
-	 * fresh junction of then may have grown or changed its vertices */
-	mesh_state_del(m, "active_rng");
-	mesh_state_del(m, "active_fresh");
 	int st = MESH_OK;
-	if (mesh_state_set(m, "active_t", buf) != MESH_OK ||
+	if (mesh_run_mark(m, "tis-active", key) != MESH_OK ||
+	    mesh_state_set(m, "active_t", buf) != MESH_OK ||
 	    act_rng_get(a, rs, sizeof rs) != MESH_OK ||
 	    (rs[0] && mesh_state_set(m, "active_rng", rs) != MESH_OK) ||
 	    act_fresh_get(a, &fresh) != MESH_OK ||
@@ -142,9 +194,9 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 	unsigned char *active = NULL;
 	struct job u = { .m = m, .o = o, .jo = jo, .io = io ? io : &none, .j = j,
 			 .lmin = INFINITY, .lmax = -INFINITY };
-	char rng[OU_STATE_LEN];
+	char rng[OU_STATE_LEN], key[1024], *fresh = NULL;
 	double t0;
-	int st;
+	int st, continued;
 	if (j >= 0) {
 		if (j >= m->nj)
 			return mesh_error_set(err, 0, MESH_EDOM, "no junction %d", j);
@@ -153,7 +205,13 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 			return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 		active[j] = 1;
 	}
-	if ((st = act_start(m, p, active, jo, &t0, rng, sizeof rng, err)) != MESH_OK)
+	job_key(p, o, jo, j, key, sizeof key);
+	mesh_error e2;
+	if ((st = mesh_run_check(m, "tis-active", key, &continued, &e2)) != MESH_OK) {
+		st = mesh_error_set(err, 0, st, "%s: %s", jo->name ? jo->name : "<mesh>", e2.msg);
+		goto out;
+	}
+	if ((st = start(m, p, active, jo, continued, &t0, rng, sizeof rng, &fresh, err)) != MESH_OK)
 		goto out;
 	if ((st = act_alloc(m, p, o, active, t0, jo->seed, &u.a, err)) != MESH_OK)
 		goto out;
@@ -166,8 +224,7 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 			mesh_error_set(err, 0, st, "a watched junction number is not below %d", m->nj);
 		goto out;
 	}
-	if (mesh_state_get(m, "active_t") &&
-	    (st = act_fresh_set(u.a, mesh_state_get(m, "active_fresh"))) != MESH_OK) {
+	if (fresh && (st = act_fresh_set(u.a, fresh)) != MESH_OK) {
 		st = st == MESH_ENOMEM ? mesh_error_set(err, 0, st, "out of memory") :
 			mesh_error_set(err, 0, st, "bad state active_fresh in the mesh");
 		goto out;
@@ -201,11 +258,12 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 	r->lmax = u.lmax;
 	/* l ~ (t_c - t)^(1/2) near the end: t_c - t = l / (2 |dl/dt|) */
 	r->t_c = r->why == ACT_END_COLLAPSE ? r->t_end + w.l / (2 * fabs(w.ldot)) : NAN;
-	if (record_state(m, u.a, r->why) != MESH_OK)
+	if (record_state(m, u.a, r->why, key) != MESH_OK)
 		st = mesh_error_set(err, 0, MESH_ENOMEM, "cannot record the run state");
 out:
 	act_free(u.a);
 	free(active);
+	free(fresh);
 	return st;
 }
 

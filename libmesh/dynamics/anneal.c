@@ -25,33 +25,48 @@ void anneal_default_stages(anneal_opts *o, double quench)
 	o->nstage = 2;
 }
 
-void anneal_protocol(const anneal_opts *o, char *buf, size_t n)
+void anneal_protocol(const anneal_opts *o, const model *p, char *buf, size_t n)
 {
-	int len = snprintf(buf, n, "stages");
-	for (int i = 0; i < o->nstage; i++)
-		len += snprintf(buf + len, n - len, " %.17g:%.17g", o->sig[i], o->dur[i]);
-	len += snprintf(buf + len, n - len, " relax %.17g tau %.17g seed %lu dt %.17g dr %.17g "
-	                "ou_dt %.17g settle %.17g t1 %.17g t1_new %.17g", o->relax, o->d.tau,
-	                o->seed, o->d.dt_max, o->d.dr_max, o->d.ou_dt, o->d.settle,
-	                o->d.t1_length, o->d.t1_new);
-	/* only when on: the text of a run without it stays as it was */
-	if (o->d.implicit > 0)
-		snprintf(buf + len, n - len, " implicit %.17g", o->d.implicit);
+	/* stages as one token, "SIGMA:DURATION,..." (each number exact) */
+	char st[ANNEAL_MAXSTAGE * 64 + 8] = "";
+	for (int i = 0; i < o->nstage; i++) {
+		char a[48] = "", b[48] = "";
+		mesh_run_key_num(a, sizeof a, "s", o->sig[i]);
+		mesh_run_key_num(b, sizeof b, "d", o->dur[i]);
+		size_t len = strlen(st);
+		snprintf(st + len, sizeof st - len, "%s%s:%s", i ? "," : "", a + 2, b + 2);
+	}
+	buf[0] = '\0';
+	mesh_run_key(buf, n, "stages", o->nstage ? st : "none");
+	mesh_run_key_num(buf, n, "relax", o->relax);
+	mesh_run_key_num(buf, n, "tau", o->d.tau);
+	snprintf(st, sizeof st, "%lu", o->seed);
+	mesh_run_key(buf, n, "seed", st);
+	mesh_run_key_num(buf, n, "dt", o->d.dt_max);
+	mesh_run_key_num(buf, n, "dr", o->d.dr_max);
+	mesh_run_key_num(buf, n, "ou_dt", o->d.ou_dt);
+	mesh_run_key_num(buf, n, "settle", o->d.settle);
+	mesh_run_key_num(buf, n, "t1", o->d.t1_length);
+	mesh_run_key_num(buf, n, "t1_new", o->d.t1_new);
+	mesh_run_key_num(buf, n, "implicit", o->d.implicit);
+	mesh_run_key_num(buf, n, "p0", p->p0);
+	mesh_run_key_num(buf, n, "ka", p->ka);
 }
 
-int anneal_resume(mesh *m, const anneal_opts *o, int *continued, mesh_error *err)
+int anneal_resume(mesh *m, const model *p, const anneal_opts *o, int *continued,
+                  mesh_error *err)
 {
 	char proto[2048];
-	anneal_protocol(o, proto, sizeof proto);
-	const char *was = mesh_state_get(m, "anneal_run");
-	*continued = was != NULL;
-	if (was && strcmp(was, proto) != 0)
-		return mesh_error_set(err, 0, MESH_EINVAL, "the mesh holds the state of a stopped "
-		                      "tis-anneal run with other options (%s): give the same options "
-		                      "to continue it", was);
+	anneal_protocol(o, p, proto, sizeof proto);
+	const char *name = o->name ? o->name : "<mesh>";
 	mesh_error e2;
-	if (was && dyn_state_restore_mesh(m, &e2) != MESH_OK)
-		return mesh_error_set(err, 0, MESH_EINVAL, "%s: %s", o->name ? o->name : "<mesh>", e2.msg);
+	if (mesh_run_check(m, "tis-anneal", proto, continued, &e2) != MESH_OK)
+		return mesh_error_set(err, 0, MESH_EINVAL, "%s: %s", name, e2.msg);
+	if (*continued && mesh_state_get(m, "dyn_run") == NULL)
+		return mesh_error_set(err, 0, MESH_EINVAL, "%s: state run without state dyn_run: not "
+		                      "the state of a tis run of this mesh", name);
+	if (*continued && dyn_state_restore_mesh(m, &e2) != MESH_OK)
+		return mesh_error_set(err, 0, MESH_EINVAL, "%s: %s", name, e2.msg);
 	return MESH_OK;
 }
 
@@ -145,7 +160,7 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 	}
 	/* used up: frames and the final mesh carry only a new one */
 	dyn_state_clear(m);
-	mesh_state_del(m, "anneal_run");
+	mesh_state_del(m, "run");
 	dyn_counts_get(u.d, &r->c0);
 	/* frames and log rows at the first step at or after each multiple of
 	 * their interval; a continued run goes on with the next one */
@@ -188,8 +203,8 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 		if (!done) {
 			/* a stopped run leaves what continuing it needs */
 			char proto[2048];
-			anneal_protocol(o, proto, sizeof proto);
-			if (dyn_state_save(u.d) != MESH_OK || mesh_state_set(m, "anneal_run", proto) != MESH_OK)
+			anneal_protocol(o, p, proto, sizeof proto);
+			if (dyn_state_save(u.d) != MESH_OK || mesh_run_mark(m, "tis-anneal", proto) != MESH_OK)
 				st = MESH_ENOMEM;
 			log_row(&u);
 		} else if (mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)

@@ -12,6 +12,7 @@
 #include <stddef.h>
 
 #include "dynamics.h"
+#include "geom.h"
 #include "mesh.h"
 
 #define ANNEAL_MAXSTAGE 64
@@ -40,15 +41,17 @@ void anneal_opts_init(anneal_opts *o);
 /* The paper's protocol: sigma 0.5 for 3000, then quench for 7000. */
 void anneal_default_stages(anneal_opts *o, double quench);
 
-/* The options a continued run must share with the first, as text (the
- * state line anneal_run). */
-void anneal_protocol(const anneal_opts *o, char *buf, size_t n);
+/* The options and model a continued run must share with the first, as
+ * the key of its mark (mesh_run_check). */
+void anneal_protocol(const anneal_opts *o, const model *p, char *buf, size_t n);
 
 /* A mesh left by a stopped run: *continued = 1 and its exact state
  * restored (dyn_state_restore_mesh), if it was stopped with the options o
- * (MESH_EINVAL naming its options otherwise); *continued = 0 for another
- * mesh.  Before the caller changes the mesh (parameters, history). */
-int anneal_resume(mesh *m, const anneal_opts *o, int *continued, mesh_error *err);
+ * and the model p (MESH_EINVAL naming what differs otherwise, or for the
+ * mark of another program); *continued = 0 for another mesh.  After the
+ * caller has set the model's parameters, before it adds to the history. */
+int anneal_resume(mesh *m, const model *p, const anneal_opts *o, int *continued,
+                  mesh_error *err);
 
 /* Where a run is, for the callbacks. */
 typedef struct {

@@ -1,0 +1,116 @@
+#!/bin/sh
+# Continuing a stopped run (tis(7), "Continuing a stopped run"): each
+# program that can be stopped, in each scheme, is stopped by SIGTERM at
+# random moments, again and again, and continued by the same command on
+# the mesh it left; the end is the bytes of a run never stopped, history
+# lines aside, with every option that shapes a start (--perturb, --seed,
+# --p0).  A marked mesh given other options, or given to another program,
+# is refused with the reason; the frames of a continued run carry no stale
+# state.  The random delays come from a seed the output names
+# (TIS_TEST_SEED=N repeats them).
+. "$(dirname "$0")/lib.sh"
+
+plan 21
+
+tis-hex 6 6 --p0 3.65 >"$T/h.mesh" || exit 1
+tis-hex 6 6 --p0 3.7224194364083982 >"$T/phex.mesh" || exit 1
+
+seed=${TIS_TEST_SEED:-$(od -An -N2 -tu2 /dev/urandom | tr -d ' ')}
+diag "random stop delays from TIS_TEST_SEED=$seed"
+k=0
+# a random delay in [0.05 D, 0.9 D] (D the unbroken run's time), at least 0.01 s
+delay() {
+	k=$((k + 1))
+	awk -v s="$seed" -v k=$k -v d="$1" 'BEGIN { srand(s * 1000 + k); rand();
+		x = (0.05 + 0.85 * rand()) * d; printf "%.3f", x < 0.01 ? 0.01 : x }'
+}
+
+same() { grep -v '^history' "$1" >"$T/a"; grep -v '^history' "$2" >"$T/b"; cmp -s "$T/a" "$T/b"; }
+
+# check NAME IN CMD...: the unbroken run of CMD on IN ($T/NAME.full), then
+# a chain: CMD on IN stopped after a random delay, continued on what it
+# left, stopped again, ... (a run that finished before the signal in the
+# first link is tried again, so the run really is stopped; after three
+# stops the last link runs to the end).  $T/NAME.part is the first stopped
+# mesh, $T/NAME.end the end, $stops the stops.
+check() {
+	name=$1 in=$2; shift 2
+	t0=$(date +%s.%N)
+	"$@" "$in" >"$T/$name.full" 2>/dev/null || { diag "$name: the unbroken run failed"; return 1; }
+	t1=$(date +%s.%N)
+	dur=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", b - a }')
+	cp "$in" "$T/cur.mesh"
+	stops=0
+	for try in $(seq 40); do
+		if [ $stops -ge 3 ]; then
+			"$@" "$T/cur.mesh" >"$T/next.mesh" 2>"$T/next.err"; st=$?
+		else
+			"$@" "$T/cur.mesh" >"$T/next.mesh" 2>"$T/next.err" & pid=$!
+			sleep "$(delay "$dur")"
+			kill -TERM $pid 2>/dev/null; wait $pid; st=$?
+		fi
+		case $st in
+		0)	[ $stops -gt 0 ] && break ;;    # the first link: again
+		3)	grep -q '^state ' "$T/next.mesh" || { diag "$name: stopped without state lines"; return 1; }
+			mv "$T/next.mesh" "$T/cur.mesh"
+			stops=$((stops + 1))
+			[ $stops -eq 1 ] && cp "$T/cur.mesh" "$T/$name.part" ;;
+		143)	;;   # the signal came before the program could catch it: again
+		*)	diag "$name: exit $st"; sed 's/^/#   /' "$T/next.err"; return 1 ;;
+		esac
+	done
+	[ $st -eq 0 ] || { diag "$name: no end in 40 links"; return 1; }
+	mv "$T/next.mesh" "$T/$name.end"
+	diag "$name: unbroken ${dur} s, stopped $stops times"
+}
+
+# check NAME IN CMD...: stopped at least once, and the unbroken run's bytes
+continued() {
+	name=$1
+	check "$@" && [ $stops -ge 1 ] && same "$T/$name.full" "$T/$name.end"
+}
+
+S="--perturb 1e-3 --seed 3 --p0 3.65"
+ok "euler, one junction with noise, stopped and continued: the unbroken run's bytes" \
+	continued eu "$T/h.mesh" tis-active --index 0 --rate 0.5 --gamma0 0.3 --scheme euler --sigma 0.02 $S --time 100
+ok "split, a network with noise and T1s: the unbroken run's bytes" \
+	continued sp "$T/h.mesh" tis-active --network --rate 0.5 --gamma0 0.5 --sigma 0.05 $S --time 40
+ok "euler, a network with T1s: the unbroken run's bytes" \
+	continued en "$T/h.mesh" tis-active --network --scheme euler --rate 0.5 --gamma0 0.3 $S --time 40
+ok "bdf, one junction on a limit cycle: the unbroken run's bytes" \
+	continued bj "$T/phex.mesh" tis-active --index 0 --rate 0.19 --gamma0 0.11 --perturb 1e-3 --seed 3 --time 1500
+ok "bdf, a network (T1s on, none reached), checkpoints every 10: the unbroken run's bytes" \
+	continued bn "$T/h.mesh" tis-active --network --scheme bdf --rate 0.5 --gamma0 0.2 --checkpoint 10 $S --time 200
+ok "tis-anneal with noise, T1s, --seed and --p0: the unbroken run's bytes" \
+	continued an "$T/h.mesh" tis-anneal --stage 0.8:100 --stage 0.1:60 --relax 20 --seed 5 --p0 3.7
+
+P="$T/sp.part"
+ok "a stopped tis-active run leaves its mark with the options that shape it" \
+	grep -q '^state run tis-active active all scheme split .* seed 3 perturb 0.001 p0 3.65' "$P"
+C="--network --rate 0.5 --gamma0 0.5 --sigma 0.05 --time 40"
+fails_with 1 "continuing it with another --seed is refused" tis-active $C --perturb 1e-3 --seed 4 --p0 3.65 "$P"
+ok "... naming the seed it was stopped with" grep -q 'seed 3, not 4' "$T/err"
+fails_with 1 "with another --perturb (or none) is refused" tis-active $C --seed 3 --p0 3.65 "$P"
+ok "... naming it" grep -q 'perturb 0.001, not default' "$T/err"
+fails_with 1 "with another --p0 is refused" tis-active $C $S --p0 3.7 "$P"
+ok "... naming it" grep -q 'p0 3.65, not 3.7' "$T/err"
+fails_with 1 "with another scheme is refused" tis-active $C $S --scheme euler "$P"
+fails_with 1 "tis-anneal refuses a mesh a stopped tis-active run left" tis-anneal "$P"
+ok "... naming the program to continue it with" grep -q 'continue it with tis-active' "$T/err"
+A="$T/an.part"
+fails_with 1 "tis-active refuses a mesh a stopped tis-anneal run left" tis-active --network "$A"
+fails_with 1 "tis-anneal refuses its stopped mesh with another --p0" \
+	tis-anneal --stage 0.8:100 --stage 0.1:60 --relax 20 --seed 5 --p0 3.75 "$A"
+ok "... naming it" grep -q 'p0 3.7, not 3.75' "$T/err"
+
+# frames of a continued run: the state of the run they are frames of, not
+# the used-up state of the run it continued (a frame given back would
+# continue from the wrong time)
+tis-active $C $S --every 5 "$P" >"$T/frames" 2>/dev/null
+ok "the frames of a continued tis-active run carry no run state" \
+	sh -c "[ \$(grep -c '^tismesh' '$T/frames') -ge 2 ] && ! grep -q '^state \(run\|active_\)' '$T/frames'"
+tis-anneal --stage 0.8:100 --stage 0.1:60 --relax 20 --seed 5 --p0 3.7 --every 20 "$A" >"$T/aframes" 2>/dev/null
+ok "... nor those of a continued tis-anneal run" \
+	sh -c "[ \$(grep -c '^tismesh' '$T/aframes') -ge 2 ] && ! grep -q '^state \(run\|dyn_\)' '$T/aframes'"
+
+done_testing
