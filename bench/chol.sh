@@ -5,7 +5,7 @@
 # one factorization, one solve and its residual, for the hand-written
 # numeric kernel (own) and CHOLMOD's (cholmod) on the same matrix; then
 # whole tis-relax runs to max force 1e-10 at 324, 10^4 and 10^5 cells
-# (CHOL_BIG=0 skips 10^5).  Results: bench/RESULTS.md (issue 16).
+# (CHOL_BIG=0 skips 10^5).  Results: bench/RESULTS.md.
 set -eu
 top=$(cd "$(dirname "$0")/.." && pwd)
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/chol-bench.XXXXXX")

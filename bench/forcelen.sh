@@ -5,7 +5,7 @@
 # the 324-cell honeycomb at p0 3.60 and 3.70 and on an irregular 324-cell
 # tissue at p0 3.60; then a batch of random junctions on two threads.
 # FL_ALL=1 also times all 972 junctions of the irregular tissue relaxed
-# at p0 3.60 and at 3.70 (issue 16's job; 2 threads, about a minute of
+# at p0 3.60 and at 3.70 (the scale target's job; 2 threads, about a minute of
 # CPU each).  Results: bench/RESULTS.md.
 set -eu
 top=$(cd "$(dirname "$0")/.." && pwd)
@@ -35,7 +35,7 @@ done
 t=$(best 1 tis-forcelen --random "${NJ:-20}" --seed 1 --no-back --threads 2 "$T/h360.mesh")
 echo "honeycomb p0 3.60: ${NJ:-20} random junctions x 121 points, 2 threads: $t s"
 if [ "${FL_ALL:-0}" = 1 ]; then
-	# issue 16's job: the README's pipeline, the sample relaxed at p0 3.70
+	# the scale target's job: the README's pipeline, the sample relaxed at p0 3.70
 	for p in 3.60 3.70; do
 		tis-relax --quiet --p0 $p "$top/$irr" >"$T/all.mesh" 2>/dev/null ||
 			tis-voronoi 324 --seed 1 --lloyd 10 | tis-relax --quiet --p0 $p >"$T/all.mesh"

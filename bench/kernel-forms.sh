@@ -4,8 +4,8 @@
 # alternating with the same bench linked against a geom.o compiled with
 # -DKERNEL_BIG_NV=0, which takes the byte-lean form at every size.  The
 # byte-lean form run in cache says what its instructions cost without
-# its memory traffic (bench/RESULTS.md, "Where issue 16 stands ... fourth
-# session").  ROUNDS rounds (default 2), pinned to one core where taskset
+# its memory traffic (bench/history/RESULTS-2026-12.md, "Where the scale targets
+# stand ... fourth session").  ROUNDS rounds (default 2), pinned to one core where taskset
 # exists; arguments replace the sizes.
 set -e
 cd "$(dirname "$0")/.."

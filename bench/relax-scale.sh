@@ -4,8 +4,8 @@
 # 1`) with the complete Cholesky preconditioner and with two-level
 # Schwarz (libmesh/solve/precond.c): 10^4 and 10^5 cells, and 10^6 cells with
 # Schwarz when RELAX_1M=1 (3 minutes, 7 GB).  /usr/bin/time gives wall,
-# user + sys CPU and peak memory.  Results: bench/RESULTS.md (issue 16,
-# "Relaxing 10^6 cells").
+# user + sys CPU and peak memory.  Results: bench/RESULTS.md (tis-relax;
+# the history in bench/history/, "Relaxing 10^6 cells").
 set -eu
 top=$(cd "$(dirname "$0")/.." && pwd)
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/relax-scale.XXXXXX")

@@ -1,5 +1,7 @@
 /* The tismesh 1 reader and writer: exact round trips, streams, tensions,
  * params and history, wrapping, copies. */
+#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -27,7 +29,7 @@ static mesh *read_str(const char *s, long *line, int *st, mesh_error *err)
 
 int main(void)
 {
-	tap_plan(24);
+	tap_plan(25);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 4, &m, &err);
@@ -204,6 +206,52 @@ int main(void)
 		mesh_jindex_free(ix);
 	}
 	mesh_free(h);
+
+	/* mesh_write_check in place against the reader's whole rule on a
+	 * wrapped copy (what it replaced): the same verdict and message on
+	 * honeycombs whose vertices are moved by up to 0.01 .. 3 (invalid
+	 * ones: junctions past half the box, negative areas, overlaps), far
+	 * out of the box (1e17: exact there, wrapped not), or non-finite */
+	int agree = 0, nbad = 0, ntry = 0;
+	unsigned long lcg = 12345;
+	for (int t = 0; t < 600; t++) {
+		mesh *q;
+		if (lattice_honeycomb(6, 4, &q, &err) != MESH_OK)
+			break;
+		double amp = t < 200 ? 0.01 : t < 400 ? 0.4 : 3;
+		for (int i = 0; i < 2 * q->nv; i++) {
+			lcg = lcg * 6364136223846793005UL + 1442695040888963407UL;
+			q->r[i] += amp * ((double)(lcg >> 11) / 9007199254740992.0 - 0.5);
+		}
+		if (t % 50 == 7)
+			q->r[2 * (t % q->nv)] = 1e17 + t;
+		if (t % 97 == 5)
+			q->r[1] = t % 2 ? NAN : INFINITY;
+		if (t % 31 == 3 && mesh_tension_alloc(q) == MESH_OK)
+			q->dg[t % q->nj] = t % 2 ? NAN : 0.5;
+		mesh_error e1 = { 0 }, e2 = { 0 };
+		int s1 = mesh_write_check(q, &e1);
+		mesh *c = mesh_copy(q);
+		mesh_wrap(c);
+		int s2 = mesh_build(c, NULL, &e2);
+		/* the copy's build carries tensions without a look at them */
+		if (s2 == MESH_OK && q->dg && !isfinite(q->dg[t % q->nj]))
+			s2 = MESH_EINVAL, snprintf(e2.msg, sizeof e2.msg, "%s", e1.msg);
+		mesh_free(c);
+		ntry++;
+		nbad += s1 != MESH_OK;
+		agree += s1 == s2 && (s1 == MESH_OK || strcmp(e1.msg, e2.msg) == 0 ||
+		                      /* the copy numbers junctions afresh, names it from
+		                         the other cell */
+		                      (strstr(e1.msg, "half the box") && strstr(e2.msg, "half the box")));
+		if (s1 != s2)
+			diag("t %d: in place %d '%s', copy %d '%s'", t, s1, e1.msg, s2, e2.msg);
+		mesh_free(q);
+	}
+	ok(ntry == 600 && agree == ntry && nbad > 100 && nbad < 500,
+	   "mesh_write_check: the verdict of a wrapped copy's mesh_build on %d of %d meshes (%d invalid)",
+	   agree, ntry, nbad);
+
 	ok(lattice_honeycomb(3, 3, &h, &err) == MESH_EDOM, "odd ny refused");
 	ok(lattice_honeycomb(1, 2, &h, &err) == MESH_EDOM, "nx = 1 refused");
 

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Reliability (issue 14): the eight cases a new user hit, each a test that
+# Reliability: the eight cases a new user hit, each a test that
 # failed before the fix; signals (SIGINT and SIGTERM, alone and inside a
 # pipeline) for every long-running program; the rule of tis(7), "Signals
 # and early ends".

@@ -286,13 +286,7 @@ void cli_write_error(const char *what)
 
 int cli_mesh_check(const mesh *m, mesh_error *err)
 {
-	mesh *c = mesh_copy(m);
-	if (c == NULL)
-		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	mesh_wrap(c);
-	int st = mesh_build(c, NULL, err);
-	mesh_free(c);
-	return st;
+	return mesh_write_check(m, err);
 }
 
 void cli_write_mesh(const mesh *m)

@@ -965,6 +965,79 @@ static void put_num(FILE *f, double x)
 	fputs(buf, f);
 }
 
+/* Coordinate i of m as the writer puts it out. */
+static double written(const mesh *m, int i)
+{
+	return wrap1(m->r[i], i % 2 ? m->ly : m->lx) + 0.0;
+}
+
+int mesh_write_check(const mesh *m, mesh_error *err)
+{
+	if (m->cj == NULL || m->jv == NULL) {
+		/* not built: the reader's whole rule on a wrapped copy */
+		mesh *c = mesh_copy(m);
+		if (c == NULL)
+			return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		mesh_wrap(c);
+		int st = mesh_build(c, NULL, err);
+		mesh_free(c);
+		return st;
+	}
+	/* The cells are those mesh_build checked; what the written
+	 * coordinates can change is the geometry, checked here as mesh_build
+	 * checks it, number for number (the image offset of an edge from its
+	 * own two ends: nearbyint is odd, so the two cells of a junction get
+	 * opposite offsets, as from jimg), without a copy of the mesh. */
+	if (!(m->lx > 0 && m->ly > 0 && isfinite(m->lx) && isfinite(m->ly)))
+		return mesh_error_set(err, 0, MESH_EINVAL, "box must have positive finite sides");
+	for (int i = 0; i < 2 * m->nv; i++)
+		if (!isfinite(m->r[i]))
+			return mesh_error_set(err, 0, MESH_EINVAL, "vertex %d has a non-finite coordinate",
+			                      i / 2);
+	double half = 0.5 * (m->lx < m->ly ? m->lx : m->ly);
+	for (int j = 0; j < m->nj; j++) {
+		int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+		double dx = written(m, 2 * b) - written(m, 2 * a);
+		double dy = written(m, 2 * b + 1) - written(m, 2 * a + 1);
+		double len = hypot(dx + min_image_shift(dx, m->lx), dy + min_image_shift(dy, m->ly));
+		if (!(len < half))
+			return mesh_error_set(err, 0, MESH_EINVAL, "junction %d-%d of cell %d has length "
+			                      "%.6g, not shorter than half the box (%.6g)", a, b,
+			                      m->jc[2 * j], len, half);
+		if (m->dg && !isfinite(m->dg[j]))
+			return mesh_error_set(err, 0, MESH_EINVAL, "junction %d-%d has a non-finite "
+			                      "tension", a, b);
+	}
+	double asum = 0;
+	for (int k = 0; k < m->nc; k++) {
+		int s = m->coff[k], e = m->coff[k + 1];
+		double x0 = written(m, 2 * m->cv[s]), y0 = written(m, 2 * m->cv[s] + 1);
+		double ox = 0, oy = 0, area = 0, px = 0, py = 0;
+		for (int i = s; i < e; i++) {
+			int v = m->cv[i], w = m->cv[i + 1 < e ? i + 1 : s];
+			if (i > s) {
+				double qx = written(m, 2 * v) + ox - x0, qy = written(m, 2 * v + 1) + oy - y0;
+				area += px * qy - py * qx;
+				px = qx;
+				py = qy;
+			}
+			ox += min_image_shift(written(m, 2 * w) - written(m, 2 * v), m->lx);
+			oy += min_image_shift(written(m, 2 * w + 1) - written(m, 2 * v + 1), m->ly);
+		}
+		if (!(ox == 0 && oy == 0))
+			return mesh_error_set(err, 0, MESH_EINVAL, "cell %d wraps around the periodic box", k);
+		if (!(0.5 * area > 0))
+			return mesh_error_set(err, 0, MESH_EINVAL, "cell %d has area %.6g; cells must be "
+			                      "counter-clockwise with positive area", k, 0.5 * area);
+		asum += 0.5 * area;
+	}
+	double box = m->lx * m->ly;
+	if (fabs(asum - box) > 1e-9 * box)
+		return mesh_error_set(err, 0, MESH_EINVAL, "cell areas add up to %.12g, not the box "
+		                      "area %.12g (overlapping or missing cells)", asum, box);
+	return MESH_OK;
+}
+
 int mesh_write(FILE *f, const mesh *m)
 {
 	fputs("tismesh 1\nbox ", f);

@@ -125,6 +125,14 @@ int mesh_read(FILE *f, long *line, mesh **out, mesh_error *err);
 /* Write m in tismesh 1 format, coordinates wrapped into the box, numbers with
  * %.17g so they read back exactly.  MESH_EIO on a write error. */
 int mesh_write(FILE *f, const mesh *m);
+/* MESH_OK when m as mesh_write puts it out (coordinates wrapped) passes
+ * the reader's rules, MESH_EINVAL with the reader's message otherwise:
+ * so that a program never writes a mesh it would reject.  On a built mesh
+ * (mesh_build since its last change of topology) it checks the geometry
+ * and tensions in place, with no copy (the check of a 10^6-cell mesh
+ * used to double the peak memory of its writer: bench/RESULTS.md); on
+ * another it builds a wrapped copy. */
+int mesh_write_check(const mesh *m, mesh_error *err);
 
 /* The packed vertex ids and image codes (kcv, kjv) hold vertex ids below
  * 2^MESH_KSHIFT. */

@@ -175,6 +175,9 @@ static int record_state(mesh *m, const act *a, act_end why, const char *key)
 	}
 	char buf[64], rs[OU_STATE_LEN], *fresh = NULL;
 	snprintf(buf, sizeof buf, "%.17g", act_time(a));
+	/* none left of another run's (a mesh of an older tis without the mark) */
+	for (size_t k = 0; k < sizeof state_names / sizeof state_names[0]; k++)
+		mesh_state_del(m, state_names[k]);
 	int st = MESH_OK;
 	if (mesh_run_mark(m, "tis-active", key) != MESH_OK ||
 	    mesh_state_set(m, "active_t", buf) != MESH_OK ||

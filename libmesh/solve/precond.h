@@ -2,7 +2,7 @@
  *
  * A complete sparse Cholesky factor (sparse.h) of a tissue's Hessian grows
  * faster than the tissue: ~330 entries of L per cell at 324 cells, ~800 at
- * 10^5, 1010 at 10^6 (1.01e9 entries, 8 GB: bench/RESULTS.md, issue 16).
+ * 10^5, 1010 at 10^6 (1.01e9 entries, 8 GB: bench/RESULTS.md).
  * Two-level additive Schwarz keeps it linear: the variables are split into
  * blocks (for a tissue, contiguous runs of vertices along a Hilbert curve,
  * i.e. compact patches of a few hundred cells), each diagonal block A_bb +

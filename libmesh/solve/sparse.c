@@ -158,7 +158,7 @@ void spsym_mulvec(const spsym *a, const double *x, double *y)
  * large factors and the hand-written supernodal kernel below (single-
  * precision solves) for small ones, where CHOLMOD's per-supernode BLAS
  * and OpenMP calls cost more than the arithmetic: measured on the same
- * matrices, bench/RESULTS.md (issue 16).  Both run on CHOLMOD's symbolic
+ * matrices, bench/RESULTS.md.  Both run on CHOLMOD's symbolic
  * structure.  Each spchol owns its cholmod_common (options, statistics,
  * workspace), so factorizations in different threads share no state. */
 struct spchol {

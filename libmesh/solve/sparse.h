@@ -7,7 +7,7 @@
  * ~100k nonzeros for a 324-cell tissue (1296 variables).  The
  * factorization is CHOLMOD's (SuiteSparse; AMD or METIS ordering,
  * supernodal), chosen over a hand-written one by measurement
- * (bench/RESULTS.md, issue 16).  One factorization serves many solves.
+ * (bench/RESULTS.md).  One factorization serves many solves.
  * Each spchol owns its CHOLMOD workspace, so factorizations in different
  * threads share no state.  Generic: nothing here knows about meshes.
  */
