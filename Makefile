@@ -111,7 +111,7 @@ bench: all
 
 DEBS = libgsl-dev libnlopt-dev libcgal-dev libsuitesparse-dev libsundials-dev liblapacke-dev libopenblas-dev g++ make perl
 # the table and VTK tests use these when present (CI installs them)
-TESTDEBS = python3-pandas gnuplot-nox python3-vtk9 pkgconf
+TESTDEBS = python3-pandas gnuplot-nox python3-vtk9 pkgconf groff-base
 # the sweeps (studies/): GNU parallel; the SLURM test: slurm-wlm
 SWEEPDEBS = parallel procps slurm-wlm
 FIGDEBS = gnuplot-nox

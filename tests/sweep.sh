@@ -9,8 +9,7 @@
 top=$(cd "$(dirname "$0")/.." && pwd)
 PATH=$top/studies/sweep:$PATH
 if ! command -v parallel >/dev/null 2>&1; then
-	echo "1..0 # SKIP GNU parallel is not installed"
-	exit 0
+	skip_all "GNU parallel is not installed (Debian parallel)"
 fi
 plan 20
 
