@@ -40,7 +40,7 @@ run() { s=$1; shift; tis-anneal --stage 0.5:4 --stage 0.1:2 --relax 2 --seed "$s
 run 5 >"$T/a.mesh" 2>"$T/a.err" && run 5 >"$T/b.mesh" && run 6 >"$T/c.mesh"
 ok "short protocol writes a valid mesh" valid "$T/a.mesh"
 ok "the same seed gives the same bytes" cmp -s "$T/a.mesh" "$T/b.mesh"
-ok "another seed gives another mesh" sh -c "! cmp -s '$T/a.mesh' '$T/c.mesh'"
+ok "another seed gives another mesh (history lines aside)" differs "$T/a.mesh" "$T/c.mesh"
 ok "history line says the protocol, the relax method and the T1 count" \
 	grep -Eq '^history tis-anneal .*# stages 0.5:4 0.1:2, relax 2 at sigma=0 .* [0-9]+ T1s' "$T/a.mesh"
 ok "nothing on stderr when it is not a terminal" test ! -s "$T/a.err"

@@ -55,8 +55,14 @@ fails_with() {
 		fail "$d"; diag "exit $st (want $want), stderr $lines lines:"; sed 's/^/#   /' "$T/err" | head -5
 	fi
 }
-# near A B TOL: |A - B| <= TOL
-near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t) }'; }
+# near A B TOL: |A - B| <= TOL; an empty A or B (a value not found) fails
+near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(a != "" && b != "" && d <= t) }'; }
+# differs A B: the files differ in more than their history and '#' lines
+# (which name the command line, and so the seed), and hold more than them
+differs() {
+	grep -v '^history\|^#' "$1" >"$T/differs.a"; grep -v '^history\|^#' "$2" >"$T/differs.b"
+	[ -s "$T/differs.a" ] && [ -s "$T/differs.b" ] && ! cmp -s "$T/differs.a" "$T/differs.b"
+}
 # rows FILE...: the rows of tables (tis(7)), also of tables joined by cat:
 # the lines whose first field is a number.
 rows() { awk '$1 == $1 + 0' "$@"; }

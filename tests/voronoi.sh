@@ -26,7 +26,7 @@ tis-voronoi --seed 2 324 >"$T/c.mesh"
 ok "the same seed gives the same bytes" cmp -s "$T/a.mesh" "$T/b.mesh"
 sed '/^history/d' "$T/a.mesh" >"$T/a.nohist"
 ok "--seed 1 is the default" sh -c "tis-voronoi 324 --seed 1 | sed '/^history/d' | cmp -s - '$T/a.nohist'"
-ok "another seed gives another tissue" sh -c "! cmp -s '$T/a.mesh' '$T/c.mesh'"
+ok "another seed gives another tissue (history lines aside)" differs "$T/a.mesh" "$T/c.mesh"
 
 tis-voronoi --aspect 2 --p0 3.8 --ka 50 200 >"$T/r.mesh"
 set -- $(boxof "$T/r.mesh")
