@@ -16,8 +16,9 @@ ok "threshold table: # provenance, then the plain column names" \
 row() { grep -v '^#' "$1" | awk -F'\t' -v k="$2" 'NR > 1 && NR - 1 == k'; }
 col() { grep -v '^#' "$1" | awk -F'\t' -v c="$2" -v k="${3:-1}" '
 	NR == 1 { for (i = 1; i <= NF; i++) if ($i == c) n = i } NR - 1 == k { print $n }'; }
-ok "18x18 vertical junction at rate 0.1: g0* = 0.38159 (0.1%)" \
-	near "$(col "$T/c.tsv" g0star)" 0.38159 0.00038
+# 0.381593655677: the root of the dense J's Re lambda (tests/stability.c)
+ok "18x18 vertical junction at rate 0.1: g0* = 0.381593655677 (1e-9), the dense J's root" \
+	near "$(col "$T/c.tsv" g0star)" 0.381593655677 1e-9
 ok "a hopf crossing above the coarse-grained value" \
 	test "$(col "$T/c.tsv" kind)" = hopf -a "$(awk "BEGIN { print ($(col "$T/c.tsv" g0star) > $(col "$T/c.tsv" g0cg)) }")" = 1
 ab=$(row "$T/c.tsv" 1 | cut -f3,4 | tr '\t' ' ')
