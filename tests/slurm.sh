@@ -128,6 +128,6 @@ touch "$P/go"
 parallel.sh "$P" -j2
 sweep-reduce "$D" | grep -v '^#' >"$T/slurm.tsv"
 sweep-reduce "$P" | grep -v '^#' >"$T/par.tsv"
-ok "the reduced table: x + y for each row" awk -F'\t' 'NR > 1 && $3 != $1 + $2 { exit 1 } END { exit NR != 7 }' "$T/slurm.tsv"
+ok "the reduced table: x + y for each row" awk -F'\t' 'NR > 1 && $3 != $1 + $2 { bad = 1 } END { exit bad || NR != 7 }' "$T/slurm.tsv"
 ok "SLURM and GNU parallel reduce to the same table" cmp -s "$T/slurm.tsv" "$T/par.tsv"
 done_testing
