@@ -44,7 +44,7 @@ static double gauss(void) { return sqrt(-2 * log(unif())) * cos(2 * PI * unif())
 
 int main(void)
 {
-	tap_plan(31);
+	tap_plan(33);
 	const double l0 = 0.62, dt = 0.1;
 	beh_result r;
 
@@ -135,6 +135,15 @@ int main(void)
 	r = run(N, "cusp");
 	is_kind(&r, BEH_CUSP, "condensation away from l0");
 	is_near(r.l_mean, 0.35, 1e-6, "cusp: mean length at the cusp");
+	/* the cusp rule's |l_end - l0| >= 0.05 l0 from both sides: settling
+	 * 6 % from l0 is a cusp, 4 % is not (at rest off l0: stable) */
+	for (int side = 0; side < 2; side++) {
+		double lend = l0 * (side ? 0.96 : 0.94);
+		for (int i = 0; i < N; i++)
+			l[i] = lend + (l0 - lend) * exp(-t[i] / 30);
+		r = run(N, "cusp edge");
+		is_kind(&r, side ? BEH_STABLE : BEH_CUSP, side ? "settling 4 % from l0" : "settling 6 % from l0");
+	}
 
 	/* at rest near l0, not at it (a floppy tissue's zero modes) */
 	for (int i = 0; i < N; i++)
