@@ -66,7 +66,7 @@ MAN1 = $(wildcard man/*.1)
 MAN5 = $(wildcard man/*.5)
 MAN7 = $(wildcard man/*.7)
 
-.PHONY: all check bench demo deps install uninstall clean samples figures fuzz fuzz-build studies
+.PHONY: all check mutate bench demo deps install uninstall clean samples figures fuzz fuzz-build studies
 
 all: $(LIB) $(PROGS)
 
@@ -101,6 +101,13 @@ check: $(LIB) $(PROGS) $(UNITS)
 	  TIS_SAN="$(SAN)" TIS_SANFLAGS="$(SANFLAGS)" TIS_LIBOBJ=$(CURDIR)/$(O)libmesh \
 	  prove -j2 $(UNITS) $(SHELL_TESTS)
 
+# Single-line mutations of the code (tests/mutate/list), each in a scratch
+# copy of the tree, rebuilt and tested there: every one must be caught.
+# Slow (tens of minutes): before a release and after a change to the tests,
+# not in every CI run.  MUTATE="NAME ..." runs only those.
+mutate: all
+	./tests/mutate/run $(MUTATE)
+
 # figures.sh and the study it draws on (disorder-a1.sh, about half an hour)
 # are measurements of physics, not of speed: they run under `make figures`.
 STUDIES = bench/figures.sh bench/disorder-a1.sh bench/anneal-protocol.sh
@@ -111,7 +118,7 @@ bench: all
 
 DEBS = libgsl-dev libnlopt-dev libcgal-dev libsuitesparse-dev libsundials-dev liblapacke-dev libopenblas-dev g++ make perl
 # the table and VTK tests use these when present (CI installs them)
-TESTDEBS = python3-pandas gnuplot-nox python3-vtk9 pkgconf
+TESTDEBS = python3-pandas gnuplot-nox python3-vtk9 pkgconf groff-base
 # the sweeps (studies/): GNU parallel; the SLURM test: slurm-wlm
 SWEEPDEBS = parallel procps slurm-wlm
 FIGDEBS = gnuplot-nox

@@ -40,7 +40,7 @@ run() { s=$1; shift; tis-anneal --stage 0.5:4 --stage 0.1:2 --relax 2 --seed "$s
 run 5 >"$T/a.mesh" 2>"$T/a.err" && run 5 >"$T/b.mesh" && run 6 >"$T/c.mesh"
 ok "short protocol writes a valid mesh" valid "$T/a.mesh"
 ok "the same seed gives the same bytes" cmp -s "$T/a.mesh" "$T/b.mesh"
-ok "another seed gives another mesh" sh -c "! cmp -s '$T/a.mesh' '$T/c.mesh'"
+ok "another seed gives another mesh (history lines aside)" differs "$T/a.mesh" "$T/c.mesh"
 ok "history line says the protocol, the relax method and the T1 count" \
 	grep -Eq '^history tis-anneal .*# stages 0.5:4 0.1:2, relax 2 at sigma=0 .* [0-9]+ T1s' "$T/a.mesh"
 ok "nothing on stderr when it is not a terminal" test ! -s "$T/a.err"
@@ -96,10 +96,10 @@ grep -v '^history' "$T/plain" >"$T/f2"
 ok "watching (frames, log) does not change the run" cmp -s "$T/f1" "$T/f2"
 ok "--p0 overrides the mesh parameter" sh -c "grep -q '^param p0 3.7$' '$T/frames'"
 ok "log: header, rows at t = 0..3, T1 count never decreases" awk -F'\t' '
-	/^#/ { next } !h++ { if ($0 != "t\tf6\tenergy\tt1") exit 1; next }
-	{ if ($1 < n || $1 > n + 0.01 || $2 < 0 || $2 > 1 || $4 < last) exit 1
+	/^#/ { next } !h++ { if ($0 != "t\tf6\tenergy\tt1") bad = 1; next }
+	{ if ($1 < n || $1 > n + 0.01 || $2 < 0 || $2 > 1 || $4 < last) bad = 1
 	  last = $4; n++ }
-	END { exit n != 4 }' "$T/log.tsv"
+	END { exit bad || n != 4 }' "$T/log.tsv"
 
 # SIGTERM: stop at the end of a step, write a valid mesh, exit 3
 tis-anneal --stage 0.5:100000 "$T/hex.mesh" >"$T/sig.mesh" 2>"$T/sig.err" &

@@ -26,7 +26,7 @@ case_() {
 }
 edit() { sed "$@" "$T/ok.mesh" >"$T/case"; }
 
-plan 47
+plan 53
 
 : >"$T/case"; case_ "empty file" "no mesh"
 printf '# only a comment\n\n' >"$T/case"; case_ "only comments" "no mesh"
@@ -61,6 +61,35 @@ edit 's/^box .*/box -3 2/'; case_ "negative box" ":2: box -3 2: sides must be in
 edit 's/^box .*/box nan 2/'; case_ "NaN box" ":2: expected 'box LX LY'"
 edit '/^box/d'; case_ "no box" ":3: 'vertices' before 'box'"
 edit 's/^box \([^ ]*\) \([^ ]*\)$/box \1 1.2/'; case_ "junction longer than half the box" "not shorter than half the box"
+# The half-box rule, half = min(lx, ly) / 2, by minimum image: a 2x2
+# honeycomb (vertical junctions s = ly/3) stretched along y (Y) so that
+# its vertical junctions are (1 + E) times half the short side lx, or
+# turned by 90 degrees first (X: x' = y, y' = lx - x, box ly lx) so that
+# they lie along x with ly' the short side.  E -1e-7 must be read, 1e-7
+# refused; the long side's half (or the mean) would accept both.
+tis-hex 2 2 >"$T/h22.mesh"
+halfbox() { # AXIS E
+	awk -v ax="$1" -v e="$2" '
+	$1 == "box" { lx = $2; ly = $3; s = ly / 3
+		if (ax == "X") { t = lx; lx = ly; ly = t }
+		k = (ax == "X" ? ly : lx) / 2 * (1 + e) / s
+		if (ax == "X") lx *= k; else ly *= k
+		printf "box %.17g %.17g\n", lx, ly; next }
+	$1 == "vertices" { v = $2; print; next }
+	v > 0 && NF == 2 { x = $1; y = $2; if (ax == "X") { x = $2; y = t - $1 }
+		if (ax == "X") x *= k; else y *= k
+		printf "%.17g %.17g\n", x, y; v--; next }
+	1' "$T/h22.mesh"
+}
+halfbox Y -1e-7 >"$T/case"; ok "half-box rule, along y, short side lx: just under half is read" tis-info --check "$T/case"
+halfbox Y 1e-7 >"$T/case"; case_ "half-box rule, along y, short side lx: just over is refused" "not shorter than half the box \(1.07457\)"
+halfbox X -1e-7 >"$T/case"; ok "half-box rule, along x, short side ly: just under half is read" tis-info --check "$T/case"
+halfbox X 1e-7 >"$T/case"; case_ "half-box rule, along x, short side ly: just over is refused" "not shorter than half the box \(1.07457\)"
+rect() { halfbox Y 0 | awk '$1 == "box" { exit !($3 > 1.4 * $2) }' && halfbox X 0 | awk '$1 == "box" { exit !($2 > 1.4 * $3) }'; }
+ok "the stretched boxes are rectangles, the junctions along their long sides" rect
+halfbox Y 0 >"$T/case"; sed -i 's/^box \([^ ]*\) .*/box \1 100/' "$T/case"
+case_ "a junction longer than half the short side in a long box (ly 100) is refused" "not shorter than half the box \(1.07457\)"
+
 # two overlapping copies of the tissue: every local rule holds, the areas add up to twice the box
 awk 'NR == 4 { print "vertices 24"; next } NR >= 5 && NR <= 16 { v[NR] = $0 }
      NR == 16 { print; for (k = 5; k <= 16; k++) print v[k]; next }

@@ -44,7 +44,7 @@ static double gauss(void) { return sqrt(-2 * log(unif())) * cos(2 * PI * unif())
 
 int main(void)
 {
-	tap_plan(25);
+	tap_plan(33);
 	const double l0 = 0.62, dt = 0.1;
 	beh_result r;
 
@@ -72,6 +72,33 @@ int main(void)
 	/* over 1000 time units, not a whole number of periods: off by at most
 	 * A T / (pi 1000) */
 	is_near(r.l_mean, l0, 0.05 * 35 / (PI * 1000), "sustained cosine: mean length l0");
+
+	/* the cycle tolerance (0.01 in log amplitude per period) from both
+	 * sides: a slow decay or growth within it is a cycle, beyond it
+	 * damped or undecided (still growing) */
+	const double rho[4] = { -0.008, 0.008, -0.012, 0.012 };
+	const beh_kind want[4] = { BEH_CYCLE, BEH_CYCLE, BEH_DAMPED, BEH_UNDECIDED };
+	double worst = 0;
+	for (int c = 0; c < 4; c++) {
+		for (int i = 0; i < N; i++)
+			l[i] = l0 + 0.01 * exp(rho[c] * t[i] / 40) * sin(2 * PI * t[i] / 40);
+		r = run(N, "cycle tolerance");
+		char what[80];
+		snprintf(what, sizeof what, "amplitude growth %+.3f per period (tolerance 0.01)", rho[c]);
+		is_kind(&r, want[c], what);
+		worst = fmax(worst, fabs(r.decay - rho[c]));
+	}
+	ok(worst < 5e-4, "and the decay per period measured within 5e-4 (worst %.2g)", worst);
+	{
+		/* a tolerance given: the same trace at 0.012 is a cycle under 0.02 */
+		beh_opts o;
+		beh_opts_default(&o);
+		o.l0 = l0;
+		o.cycle_tol = 0.02;
+		mesh_error err;
+		beh_classify(N, t, l, &o, &r, &err);
+		is_kind(&r, BEH_CYCLE, "growth 0.012 per period with cycle_tol 0.02");
+	}
 
 	/* a nonlinear cycle: asymmetric about l0, with a harmonic */
 	for (int i = 0; i < N; i++) {
@@ -108,6 +135,15 @@ int main(void)
 	r = run(N, "cusp");
 	is_kind(&r, BEH_CUSP, "condensation away from l0");
 	is_near(r.l_mean, 0.35, 1e-6, "cusp: mean length at the cusp");
+	/* the cusp rule's |l_end - l0| >= 0.05 l0 from both sides: settling
+	 * 6 % from l0 is a cusp, 4 % is not (at rest off l0: stable) */
+	for (int side = 0; side < 2; side++) {
+		double lend = l0 * (side ? 0.96 : 0.94);
+		for (int i = 0; i < N; i++)
+			l[i] = lend + (l0 - lend) * exp(-t[i] / 30);
+		r = run(N, "cusp edge");
+		is_kind(&r, side ? BEH_STABLE : BEH_CUSP, side ? "settling 4 % from l0" : "settling 6 % from l0");
+	}
 
 	/* at rest near l0, not at it (a floppy tissue's zero modes) */
 	for (int i = 0; i < N; i++)

@@ -76,9 +76,8 @@ fails_with 2 "--max-memory nan" tis-forcelen --linear --all --max-memory nan "$T
 # smaller; the sanitizers reserve terabytes of address space, so not
 # under SAN=1, and the refusals below would otherwise run for hours.
 if [ -n "${ASAN_OPTIONS:-}" ]; then
-	pass "# skip the default limit under the sanitizers"
-	pass "# skip"
-	pass "# skip dsyevd's limit under the sanitizers"
+	not_here 2 "the default limit under the sanitizers"
+	not_here 1 "dsyevd's limit under the sanitizers"
 else
 	tis-hex 100 100 --p0 3.65 >"$T/h100.mesh"
 	fails_with 1 "10^4 cells with 4 GB of address space: refused (38.4 GB), one line" \

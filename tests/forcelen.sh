@@ -3,7 +3,7 @@
 # against the exact linear response, threads do not change the bytes,
 # several meshes in one stream, the return legs, usage and input errors.
 . "$(dirname "$0")/lib.sh"
-plan 39
+plan 45
 
 tis-hex 6 6 --p0 3.6 >"$T/h.mesh"
 tis-forcelen --index 0 --range 0.02 "$T/h.mesh" >"$T/c.tsv"
@@ -24,6 +24,37 @@ ok "--junction A B names the same junction as --index" sh -c "
 	tis-forcelen --junction \$a --range 0.02 '$T/h.mesh' | grep -v '^#' | cmp -s - '$T/c.tsv' -i 0:\$(grep '^#' '$T/c.tsv' | wc -c)"
 ok "junction 0 of the rest-length table has l0 of a unit hexagon side" \
 	near "$(awk -F'\t' 'NR == 1 { print $5 }' "$T/c.rows")" 0.6204032394013997 1e-11
+
+# A step other than the default, point by point: the rows are the rest
+# point, l0 + k step for k = 1..K out and K-1..0 back, then the same
+# inward, K = range/step, so the sweep reaches the range asked.
+# swept STEP RANGE FILE: the rows of FILE are that sequence (l to 1e-11)
+swept() {
+	rows "$3" | awk -F'\t' -v h="$1" -v K="$(awk -v r="$2" -v h="$1" 'BEGIN { printf "%d", r / h + 0.5 }')" '
+	BEGIN { n = 0; k[n] = 0; d[n++] = "rest"
+		for (s = 1; s >= -1; s -= 2) {
+			for (i = 1; i <= K; i++) { k[n] = s * i; d[n++] = "out" }
+			for (i = K - 1; i >= 0; i--) { k[n] = s * i; d[n++] = "back" } } }
+	{ e = $7 - ($5 + k[NR - 1] * h); if (e < 0) e = -e
+	  if (NR > n || $6 != d[NR - 1] || e > 1e-11) { print "row " NR ": " $6, $7 " (want " d[NR - 1] " k " k[NR - 1] ")"; bad = 1; exit } }
+	END { if (!bad && NR != n) print NR " rows, want " n; exit bad || NR != n }'
+}
+tis-forcelen --index 0 --step 0.004 --range 0.02 "$T/h.mesh" >"$T/s4.tsv"
+ok "--step 0.004 --range 0.02: l0 + k 0.004, k = 1..5 out and back on each side" swept 0.004 0.02 "$T/s4.tsv"
+tis-forcelen --index 0 --step 0.01 --range 0.05 --no-back "$T/h.mesh" | rows >"$T/s10"
+ok "--step 0.01 --range 0.05 --no-back: 11 rows, l0 +- k 0.01 out to 0.05" \
+	awk -F'\t' '{ k = (NR <= 6 ? NR - 1 : 6 - NR); e = $7 - $5 - 0.01 * k; if (e * e > 1e-22) bad = 1 } END { exit bad || NR != 11 }' "$T/s10"
+# the same length reached by other steps is the same constrained minimum
+f_at() { awk -F'\t' -v l="$2" '$6 == "out" { d = $7 - l; if (d * d < 1e-20) { print $8; exit } }' "$1"; }
+l20=$(awk -F'\t' 'NR == 1 { printf "%.12g", $5 + 0.02 }' "$T/c.rows")
+l40=$(awk -F'\t' 'NR == 1 { printf "%.12g", $5 + 0.04 }' "$T/c.rows")
+ok "f(l0 + 0.02) at step 0.004 = at the default step (1e-9)" near "$(f_at "$T/s4.tsv" "$l20")" "$(f_at "$T/c.rows" "$l20")" 1e-9
+ok "f(l0 + 0.04) at step 0.01 = at step 0.004 over the range 0.04 (1e-9)" near "$(f_at "$T/s10" "$l40")" \
+	"$(tis-forcelen --index 0 --step 0.004 --range 0.04 --no-back "$T/h.mesh" | rows | f_at - "$l40")" 1e-9
+# and the fit's window gets every point of the finer sweep: 2 K + 1
+ok "tis-fit --window 0.02 of the step-0.004 sweep: 11 points" \
+	test "$(tis-fit --degree 3 --window 0.02 "$T/s4.tsv" | rows | cut -f6)" = 11
+ok "--step 0.004: no point missed the tolerance" awk -F'\t' '$1 == $1 + 0 && $10 > 1e-10 { exit 1 }' "$T/s4.tsv"
 
 # The fit against the exact linear response.
 tis-forcelen --index 0 --range 0.1 --no-back "$T/h.mesh" | tis-fit | rows >"$T/fit"

@@ -40,6 +40,6 @@ fails_with 1 "tis-info: missing file" tis-info "$T/nonexistent"
 if [ -w /dev/full ]; then
 	fails_with 1 "tis-hex: write error is an error" sh -c 'tis-hex 18 18 >/dev/full'
 else
-	pass "# skip no /dev/full"
+	skip 1 "no /dev/full"
 fi
 done_testing

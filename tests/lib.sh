@@ -9,6 +9,35 @@ plan() { echo "1..$1"; }
 pass() { n=$((n + 1)); echo "ok $n - $1"; }
 fail() { n=$((n + 1)); failed=$((failed + 1)); echo "not ok $n - $1"; }
 diag() { printf '# %s\n' "$@"; }
+# skip COUNT REASON: COUNT tests not run for want of something a user's
+# machine may lack (a package, a device).  CI installs all of it and
+# exports TIS_NO_SKIP=1 (.ci/run): there each is a failure, so that a
+# broken package cannot pass as a skip.
+skip() {
+	_k=$1; shift
+	while [ "$_k" -gt 0 ]; do
+		_k=$((_k - 1))
+		if [ "${TIS_NO_SKIP:-0}" = 1 ]; then
+			fail "skipped with TIS_NO_SKIP=1: $*"
+		else
+			n=$((n + 1)); echo "ok $n # skip $*"
+		fi
+	done
+}
+# skip_all REASON: the whole file, before its plan; with TIS_NO_SKIP=1 a
+# failure.  Exits.
+skip_all() {
+	if [ "${TIS_NO_SKIP:-0}" = 1 ]; then
+		echo "1..1"; echo "not ok 1 - skipped with TIS_NO_SKIP=1: $*"; exit 1
+	fi
+	echo "1..0 # SKIP $*"; exit 0
+}
+# not_here COUNT REASON: COUNT tests that do not apply to this build (the
+# sanitizers' address space), skipped also in CI.
+not_here() {
+	_k=$1; shift
+	while [ "$_k" -gt 0 ]; do _k=$((_k - 1)); n=$((n + 1)); echo "ok $n # skip $*"; done
+}
 # ok DESCRIPTION COMMAND...: passes when the command succeeds.
 ok() { d=$1; shift; if "$@"; then pass "$d"; else fail "$d"; fi; }
 # fails_with STATUS DESCRIPTION COMMAND...: the command must exit with
@@ -26,8 +55,14 @@ fails_with() {
 		fail "$d"; diag "exit $st (want $want), stderr $lines lines:"; sed 's/^/#   /' "$T/err" | head -5
 	fi
 }
-# near A B TOL: |A - B| <= TOL
-near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= t) }'; }
+# near A B TOL: |A - B| <= TOL; an empty A or B (a value not found) fails
+near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(a != "" && b != "" && d <= t) }'; }
+# differs A B: the files differ in more than their history and '#' lines
+# (which name the command line, and so the seed), and hold more than them
+differs() {
+	grep -v '^history\|^#' "$1" >"$T/differs.a"; grep -v '^history\|^#' "$2" >"$T/differs.b"
+	[ -s "$T/differs.a" ] && [ -s "$T/differs.b" ] && ! cmp -s "$T/differs.a" "$T/differs.b"
+}
 # rows FILE...: the rows of tables (tis(7)), also of tables joined by cat:
 # the lines whose first field is a number.
 rows() { awk '$1 == $1 + 0' "$@"; }

@@ -29,7 +29,7 @@ for p in $pages; do
 	ok "man/$p: .TH names $name($sec)" [ "$th" = "$(echo "$name $sec" | tr a-z A-Z)" ] ||
 		[ "$th" = "$name $sec" ]
 	if [ -z "$render" ]; then
-		n=$((n + 1)); echo "ok $n # skip groff not installed: man/$p not rendered"
+		skip 1 "groff not installed (Debian groff-base): man/$p not rendered"
 		continue
 	fi
 	# -ww: all warnings; -z: no output; tbl for pages with tables
@@ -53,8 +53,7 @@ bindir=${TIS_BIN:-$top/bin}
 for prog in $progs; do
 	ok "$prog has man/$prog.1" [ -f "$top/man/$prog.1" ]
 	if [ ! -x "$bindir/$prog" ]; then
-		n=$((n + 1)); echo "ok $n # skip $prog not built"
-		n=$((n + 1)); echo "ok $n # skip $prog not built"
+		skip 2 "$prog not built"
 		continue
 	fi
 	"$bindir/$prog" --help >"$T/out" 2>"$T/err"; st=$?

@@ -9,11 +9,10 @@
 top=$(cd "$(dirname "$0")/.." && pwd)
 PATH=$top/studies/sweep:$PATH:/usr/sbin:/sbin
 
-skip() { echo "1..0 # SKIP $1"; exit 0; }
 for p in slurmctld slurmd sbatch squeue scancel sinfo parallel; do
-	command -v $p >/dev/null 2>&1 || skip "$p not installed (Debian slurm-wlm, parallel)"
+	command -v $p >/dev/null 2>&1 || skip_all "$p not installed (Debian slurm-wlm, parallel)"
 done
-[ "$(id -u)" -eq 0 ] || skip "slurmd must run as root to start jobs"
+[ "$(id -u)" -eq 0 ] || skip_all "slurmd must run as root to start jobs"
 
 # Two free TCP ports: nothing listening on them in /proc/net/tcp.
 used() { awk -v p="$(printf '%04X' "$1")" 'NR > 1 { split($2, a, ":"); if (a[2] == p) f = 1 } END { exit !f }' \
@@ -72,7 +71,7 @@ until [ "$(sinfo -h -n tisnode -o %t 2>/dev/null)" = idle ] || [ $i -ge 300 ]; d
 done
 if [ $i -ge 300 ]; then
 	why=$(cat "$S/log/"*.log "$S/log/"*.out 2>/dev/null | grep -i -m1 -E 'error|fatal' || echo "node not idle after 30 s")
-	skip "no single-node SLURM here: $why"
+	skip_all "no single-node SLURM here: $why"
 fi
 plan 9
 
@@ -129,6 +128,6 @@ touch "$P/go"
 parallel.sh "$P" -j2
 sweep-reduce "$D" | grep -v '^#' >"$T/slurm.tsv"
 sweep-reduce "$P" | grep -v '^#' >"$T/par.tsv"
-ok "the reduced table: x + y for each row" awk -F'\t' 'NR > 1 && $3 != $1 + $2 { exit 1 } END { exit NR != 7 }' "$T/slurm.tsv"
+ok "the reduced table: x + y for each row" awk -F'\t' 'NR > 1 && $3 != $1 + $2 { bad = 1 } END { exit bad || NR != 7 }' "$T/slurm.tsv"
 ok "SLURM and GNU parallel reduce to the same table" cmp -s "$T/slurm.tsv" "$T/par.tsv"
 done_testing

@@ -267,11 +267,52 @@ static int vertical(const mesh *m)
  * costs more than they gain at these sizes (bench/RESULTS.md). */
 void openblas_set_num_threads(int n);
 
+/* g0* of junction j at rate by the second method: the root of Re of the
+ * dense J's leading eigenvalue (stab_dense_leading, J checked against
+ * differences of the model equations below) in g0, by the Illinois
+ * variant of regula falsi from a bracket [lo, hi] where it changes sign;
+ * NaN if it does not. */
+static double dense_g0star(const mesh *m, const model *p, int j, double rate, double lo, double hi,
+                           int *nsolve)
+{
+	stab_opts o;
+	stab_opts_init(&o);
+	mesh_error err;
+	double flo, fhi, im;
+	*nsolve = 2;
+	if (stab_dense_leading(m, p, &o, j, rate, lo, &flo, &im, &err) != MESH_OK ||
+	    stab_dense_leading(m, p, &o, j, rate, hi, &fhi, &im, &err) != MESH_OK || !(flo < 0 && fhi > 0))
+		return NAN;
+	int side = 0;
+	for (int it = 0; it < 40 && hi - lo > 1e-10 * hi; it++) {
+		double g = (lo * fhi - hi * flo) / (fhi - flo), f;
+		++*nsolve;
+		if (stab_dense_leading(m, p, &o, j, rate, g, &f, &im, &err) != MESH_OK)
+			return NAN;
+		if (f == 0)
+			return g;
+		if (f < 0) {
+			lo = g;
+			flo = f;
+			if (side == -1)
+				fhi /= 2;
+			side = -1;
+		} else {
+			hi = g;
+			fhi = f;
+			if (side == 1)
+				flo /= 2;
+			side = 1;
+		}
+	}
+	return 0.5 * (lo + hi);
+}
+
 int main(void)
 {
 	gsl_set_error_handler_off();
 	openblas_set_num_threads(1);
-	tap_plan(34);
+	tap_plan(35);
 	mesh_error err;
 	model p = { 3.65, 100 };
 	int nc;
@@ -343,8 +384,17 @@ int main(void)
 	stab_jn_set(sd18, h18, vertical(h18), jn);
 	stab_crit c;
 	int st = stab_critical(jn, 0.1, &c);
-	ok(st == MESH_OK && c.kind == STAB_HOPF && fabs(c.g0star / 0.38159 - 1) < 1e-3,
-	   "18x18 vertical junction, p0 3.65, rate 0.1: g0* %.6f = 0.38159 (0.1%%), hopf", c.g0star);
+	ok(st == MESH_OK && c.kind == STAB_HOPF && fabs(c.g0star - 0.38159) <= 5e-6,
+	   "18x18 vertical junction, p0 3.65, rate 0.1: g0* %.9f = 0.38159 to its 5 digits, hopf",
+	   c.g0star);
+	{
+		/* the same threshold by the dense J: the root of Re lambda(g0) */
+		int ns;
+		double gd = dense_g0star(h18, &p, vertical(h18), 0.1, 0.3812, 0.3820, &ns);
+		diag("18x18: g0* %.12g (secular), %.12g (dense J, %d solves)", c.g0star, gd, ns);
+		ok(fabs(c.g0star / gd - 1) < 1e-7, "18x18 g0* = the root of the dense J's Re lambda "
+		   "(%.3g apart, relative)", fabs(c.g0star / gd - 1));
+	}
 	double re, im, re2, im2;
 	stab_leading(jn, 0.1, c.g0star * (1 - 1e-6), &re, &im);
 	stab_leading(jn, 0.1, c.g0star * (1 + 1e-6), &re2, &im2);

@@ -9,8 +9,7 @@
 top=$(cd "$(dirname "$0")/.." && pwd)
 PATH=$top/studies/sweep:$PATH
 if ! command -v parallel >/dev/null 2>&1; then
-	echo "1..0 # SKIP GNU parallel is not installed"
-	exit 0
+	skip_all "GNU parallel is not installed (Debian parallel)"
 fi
 plan 20
 
@@ -67,8 +66,8 @@ ok "reduce: one header naming parameters and results" \
 	test "$(grep -v '^#' "$T/all.tsv" | head -1)" = "$(printf 'x\ty\tsum\tprod')"
 ok "reduce: 8 rows in order with x + y and x y" awk -F'\t' '
 	/^#/ { next } !h { h = 1; next }
-	{ k++; if ($1 != k || $2 != 10 * k || $3 != 11 * k || $4 != 10 * k * k) exit 1 }
-	END { exit k != 8 }' "$T/all.tsv"
+	{ k++; if ($1 != k || $2 != 10 * k || $3 != 11 * k || $4 != 10 * k * k) bad = 1 }
+	END { exit bad || k != 8 }' "$T/all.tsv"
 ok "reduce: provenance of the grid's job and of sweep-row" sh -c \
 	"grep -q '^# job for row 1' '$T/all.tsv' && grep -q '^# sweep-row ' '$T/all.tsv'"
 : >"$D/runs.log"

@@ -107,7 +107,7 @@ assert len(c) == 36 and abs(c['area'].sum() - tsv['lx'][0] * tsv['ly'][0]) < 1e-
 assert len(j) == 108 and j['length'].dtype == float
 PY
 else
-	for i in 1 2 3; do pass "# skip python3-pandas missing"; done
+	skip 3 "python3-pandas missing"
 fi
 
 # gnuplot, by column name
@@ -122,7 +122,7 @@ if command -v gnuplot >/dev/null 2>&1; then
 		test "$(awk 'NF >= 2 && !/^#/ { printf "%.6g %.6g\n", $1, $2 }' "$T/fa.gp")" = \
 		"$(rows "$T/fa" | awk -F '\t' '{ printf "%.6g %.6g\n", $1, $8 }')"
 else
-	for i in 1 2; do pass "# skip gnuplot missing"; done
+	skip 2 "gnuplot missing (Debian gnuplot-nox)"
 fi
 
 # The README's examples, as written there (between the marker comments)
@@ -135,11 +135,11 @@ ok "README: the three examples are there" test -s "$T/ex.sh" -a -s "$T/ex.py" -a
 if "$PY" -c 'import pandas' 2>/dev/null; then
 	ok "README: the pandas example runs" sh -c "cd '$T' && '$PY' ex.py >ex.pyout && grep -q a1 ex.pyout"
 else
-	pass "# skip python3-pandas missing"
+	skip 1 "python3-pandas missing"
 fi
 if command -v gnuplot >/dev/null 2>&1; then
 	ok "README: the gnuplot example runs and draws" sh -c "cd '$T' && gnuplot ex.gp 2>ex.gperr && test -s curve.png && ! grep -qi warning ex.gperr"
 else
-	pass "# skip gnuplot missing"
+	skip 1 "gnuplot missing (Debian gnuplot-nox)"
 fi
 done_testing
