@@ -32,7 +32,7 @@ class Table(dict):
         return list(self.keys())
 
     def __len__(self):
-        return len(next(iter(self.values()))) if self else 0
+        return len(next(iter(self.values()))) if dict.__len__(self) else 0
 
 
 def _parse(lines, name):
@@ -97,7 +97,9 @@ def read_table(file, pandas=True):
     if pandas:
         import pandas as pd
         text = "\t".join(names) + "\n" + "".join("\t".join(r) + "\n" for r in rows)
-        df = pd.read_csv(io.StringIO(text), sep="\t")
+        # round_trip: every number as strtod reads it (pandas' default
+        # parser can be an ulp off)
+        df = pd.read_csv(io.StringIO(text), sep="\t", float_precision="round_trip")
         df.attrs.update(attrs)
         return df
     cols = {}
