@@ -6,7 +6,7 @@
 # from the stream it was made from; clean failures on bad input, without
 # ffmpeg and when ffmpeg fails.  The encoder tests skip without ffmpeg.
 . "$(dirname "$0")/lib.sh"
-plan 24
+plan 26
 
 tis-hex 4 4 | tis-relax --quiet --p0 3.7224194 >"$T/phex.mesh"
 tis-active --index 0 --rate 0.19 --gamma0 0.11 --time 40 --every 4 "$T/phex.mesh" >"$T/frames.mesh"
@@ -41,6 +41,14 @@ ok "tension 4 (P_hex - 3.6) > 0 at full scale: red junctions, no blue" \
 	test "$(pixels "$T/red.ppm" 0 180 4 38)" -gt 1000 -a "$(pixels "$T/red.ppm" 0 59 76 192)" -eq 0
 ok "tension 4 (P_hex - 3.9) < 0: blue junctions, no red" \
 	test "$(pixels "$T/blue.ppm" 0 59 76 192)" -gt 1000 -a "$(pixels "$T/blue.ppm" 0 180 4 38)" -eq 0
+tis-movie --window 3 --format ppm -o - "$T/frames.mesh" >"$T/w.ppm"
+gw=$(pixels "$T/w.ppm" 3 0 166 81) gf=$(pixels "$T/f.ppm" 3 0 166 81)
+# the view 3 wide of a box 4 sqrt(2/sqrt 3) = 4.2983 wide: lengths and
+# line widths (0.06 of a length unit, under their cap) 1.4328 times, the
+# green band's area 2.053 times
+ok "--window 3: the marked junction 2.05 times the pixels ($gw, $gf in the whole box)" \
+	awk -v a="$gw" -v b="$gf" 'BEGIN { r = a / b; exit !(r > 1.95 && r < 2.15) }'
+fails_with 2 "--window with --no-mark" tis-movie --window 3 --no-mark -o "$T/x.mp4" "$T/frames.mesh"
 ok "the same frames, the same bytes" sh -c "tis-movie --format ppm -o - '$T/frames.mesh' | cmp -s - '$T/f.ppm'"
 tis-vtk -o "$T/run" "$T/frames.mesh"
 tis-movie --format ppm -o - "$T/run.pvd" >"$T/pvd.ppm"

@@ -4,11 +4,9 @@
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
-#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "cli.h"
@@ -16,11 +14,9 @@
 #include "raster.h"
 #include "vtk.h"
 
-extern char **environ;
-
 static const char usage[] =
-	"-o FILE [--format mp4|gif|ppm] [--fps N] [--width PX] [--scale S] [--junction A B | --no-mark]\n"
-	"       [--p0 X] [--ffmpeg PROG] [FRAMES | RUN.pvd]";
+	"-o FILE [--format mp4|gif|ppm] [--fps N] [--width PX] [--window W] [--scale S]\n"
+	"       [--junction A B | --no-mark] [--p0 X] [--ffmpeg PROG] [FRAMES | RUN.pvd]";
 static const char help[] =
 	"Make a movie of a run: every mesh of a tismesh stream (the frames of\n"
 	"tis-active --every or tis-anneal --every) or every dataset of a .pvd\n"
@@ -34,6 +30,8 @@ static const char help[] =
 	"  --format F         mp4, gif or ppm (no ffmpeg needed), whatever the suffix\n"
 	"  --fps N            frames per second (default 10)\n"
 	"  --width PX         width of the drawn box in pixels (default 480)\n"
+	"  --window W         draw a part W wide (in cell lengths) about the marked\n"
+	"                     junction of the first frame, not the whole box\n"
 	"  --scale S          tension at full colour (default: the largest |tension|\n"
 	"                     of any frame)\n"
 	"  --junction A B     mark the junction joining vertices A and B instead\n"
@@ -48,18 +46,20 @@ enum { FMT_MP4, FMT_GIF, FMT_PPM };
 struct opts {
 	const char *out, *ffmpeg, *input;
 	int format, fps, width, nomark, has_p0;
+	double window;    /* 0: the whole box */
 	long ja, jb;      /* --junction, ja < 0: none */
 	double scale, p0;
 };
 
 static struct opts parse(int argc, char **argv)
 {
-	enum { O_FORMAT = 256, O_FPS, O_WIDTH, O_SCALE, O_JUNCTION, O_NOMARK, O_P0, O_FFMPEG, O_VERSION };
+	enum { O_FORMAT = 256, O_FPS, O_WIDTH, O_WINDOW, O_SCALE, O_JUNCTION, O_NOMARK, O_P0, O_FFMPEG, O_VERSION };
 	static const struct option lo[] = {
 		{ "output", required_argument, NULL, 'o' },
 		{ "format", required_argument, NULL, O_FORMAT },
 		{ "fps", required_argument, NULL, O_FPS },
 		{ "width", required_argument, NULL, O_WIDTH },
+		{ "window", required_argument, NULL, O_WINDOW },
 		{ "scale", required_argument, NULL, O_SCALE },
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "no-mark", no_argument, NULL, O_NOMARK },
@@ -82,6 +82,7 @@ static struct opts parse(int argc, char **argv)
 			break;
 		case O_FPS: o.fps = (int)cli_long("--fps", optarg, 1, 240); break;
 		case O_WIDTH: o.width = (int)cli_long("--width", optarg, 16, 8192); break;
+		case O_WINDOW: o.window = cli_double_range("--window", optarg, 1e-3, 1e6); break;
 		case O_SCALE: o.scale = cli_double_range("--scale", optarg, 1e-12, 1e12); break;
 		case O_JUNCTION: cli_vertex_pair("--junction", argc, argv, &o.ja, &o.jb); break;
 		case O_NOMARK: o.nomark = 1; break;
@@ -96,6 +97,8 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("-o FILE is needed (name.mp4, name.gif, or - with --format ppm)");
 	if (o.nomark && o.ja >= 0)
 		cli_usage_error("--junction and --no-mark: choose one");
+	if (o.nomark && o.window > 0)
+		cli_usage_error("--window is about the marked junction: not with --no-mark");
 	const char *dot = strrchr(o.out, '.');
 	if (o.format < 0)
 		o.format = dot && !strcmp(dot, ".mp4") ? FMT_MP4 : dot && !strcmp(dot, ".gif") ? FMT_GIF : -1;
@@ -166,6 +169,20 @@ static void read_pvd(const char *path, struct frames *fr)
 	free(times);
 }
 
+/* The junctions frame i marks into mark: --junction's, else the active
+ * ones (raster_active); how many. */
+static int marks(const struct opts *o, const mesh *m, int i, int *mark)
+{
+	if (o->nomark)
+		return 0;
+	if (o->ja < 0)
+		return raster_active(m, mark);
+	mark[0] = mesh_junction_find(m, (int)o->ja, (int)o->jb);
+	if (mark[0] < 0)
+		cli_die(EXIT_INPUT, "frame %d: %ld-%ld is not a junction", i, o->ja, o->jb);
+	return 1;
+}
+
 /* ffmpeg reading raw RGB frames from a pipe: its pid, *fd the pipe. */
 static pid_t encoder(const struct opts *o, int w, int h, int *fd, int *errfd)
 {
@@ -184,53 +201,7 @@ static pid_t encoder(const struct opts *o, int w, int h, int *fd, int *errfd)
 		argv[k++] = *a;
 	argv[k++] = o->out;
 	argv[k] = NULL;
-	int in[2], er[2];
-	if (pipe(in) != 0 || pipe(er) != 0)
-		cli_die(EXIT_INPUT, "pipe: %s", strerror(errno));
-	posix_spawn_file_actions_t fa;
-	posix_spawn_file_actions_init(&fa);
-	posix_spawn_file_actions_adddup2(&fa, in[0], 0);
-	posix_spawn_file_actions_adddup2(&fa, er[1], 2);
-	posix_spawn_file_actions_addclose(&fa, in[1]);
-	posix_spawn_file_actions_addclose(&fa, er[0]);
-	pid_t pid;
-	int st = posix_spawnp(&pid, o->ffmpeg, &fa, NULL, (char *const *)argv, environ);
-	posix_spawn_file_actions_destroy(&fa);
-	close(in[0]);
-	close(er[1]);
-	if (st == ENOENT)
-		cli_die(EXIT_INPUT, "%s: not found (install Debian's ffmpeg, or give --ffmpeg PROG)", o->ffmpeg);
-	if (st != 0)
-		cli_die(EXIT_INPUT, "%s: %s", o->ffmpeg, strerror(st));
-	*fd = in[1];
-	*errfd = er[0];
-	return pid;
-}
-
-/* Wait for the encoder; exit 1 with the last line it wrote if it failed. */
-static void finish_encoder(const struct opts *o, pid_t pid, int errfd)
-{
-	char buf[4096];
-	size_t n = 0;
-	ssize_t k;
-	while ((k = read(errfd, buf + n, sizeof buf - 1 - n)) > 0 && n < sizeof buf - 1)
-		n += (size_t)k;
-	buf[n] = '\0';
-	close(errfd);
-	int status;
-	while (waitpid(pid, &status, 0) < 0)
-		if (errno != EINTR)
-			cli_die(EXIT_INPUT, "waitpid: %s", strerror(errno));
-	if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
-		return;
-	while (n > 0 && buf[n - 1] == '\n')
-		buf[--n] = '\0';
-	char *last = strrchr(buf, '\n');
-	last = last ? last + 1 : buf;
-	if (WIFEXITED(status) && WEXITSTATUS(status) == 127 && !*last)
-		cli_die(EXIT_INPUT, "%s: could not be run", o->ffmpeg);
-	cli_die(EXIT_INPUT, "%s failed (%s %d)%s%s", o->ffmpeg, WIFEXITED(status) ? "exit" : "signal",
-	        WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status), *last ? ": " : "", last);
+	return cli_spawn(argv, "install Debian's ffmpeg, or give --ffmpeg PROG", fd, errfd);
 }
 
 static void put(int fd, const unsigned char *p, size_t n)
@@ -240,7 +211,7 @@ static void put(int fd, const unsigned char *p, size_t n)
 		if (k < 0 && errno == EINTR)
 			continue;
 		if (k <= 0)
-			return;   /* the encoder went away: finish_encoder says why */
+			return;   /* the encoder went away: cli_spawn_wait says why */
 		p += k;
 		n -= (size_t)k;
 	}
@@ -271,20 +242,22 @@ int main(int argc, char **argv)
 		model p = model_from_mesh(fr.m[i]);
 		if (o.has_p0)
 			p.p0 = o.p0;
-		double *per = malloc(((size_t)fr.m[i]->nc + 1) * sizeof *per);
-		if (per == NULL)
+		double s = raster_tension_max(fr.m[i], &p);
+		if (s < 0)
 			cli_die(EXIT_INPUT, "out of memory");
-		mesh_perimeters(fr.m[i], per);
-		for (int j = 0; j < fr.m[i]->nj; j++) {
-			junction_props q;
-			junction_props_get(fr.m[i], &p, per, j, &q);
-			scale = fmax(scale, fabs(q.tension));
-		}
-		free(per);
+		scale = fmax(scale, s);
 	}
 	if (!(scale > 0))
 		scale = 1;
 	raster_opts ro = { .width = o.width, .scale = scale };
+	int *mark = malloc(((size_t)fr.m[0]->nj + 1) * sizeof *mark);
+	if (mark == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (o.window > 0) {
+		if (marks(&o, fr.m[0], 0, mark) == 0)
+			cli_die(EXIT_INPUT, "--window: the first frame has no marked junction (give --junction A B)");
+		raster_view_junction(fr.m[0], mark[0], o.window, ro.view);
+	}
 	int w, h;
 	raster_size(fr.m[0]->lx, fr.m[0]->ly, &ro, &w, &h);
 	raster *img = raster_alloc(w, h);
@@ -292,28 +265,17 @@ int main(int argc, char **argv)
 		cli_die(EXIT_INPUT, "out of memory");
 	int fd = 1, errfd = -1;
 	pid_t pid = o.format == FMT_PPM ? 0 : encoder(&o, w, h, &fd, &errfd);
-	int *mark = NULL;
 	for (int i = 0; i < fr.n; i++) {
 		mesh *m = fr.m[i];
 		model p = model_from_mesh(m);
 		if (o.has_p0)
 			p.p0 = o.p0;
-		int nmark = 0;
 		free(mark);
 		mark = malloc(((size_t)m->nj + 1) * sizeof *mark);
 		if (mark == NULL)
 			cli_die(EXIT_INPUT, "out of memory");
-		if (o.ja >= 0) {
-			mark[0] = mesh_junction_find(m, (int)o.ja, (int)o.jb);
-			if (mark[0] < 0)
-				cli_die(EXIT_INPUT, "frame %d: %ld-%ld is not a junction", i, o.ja, o.jb);
-			nmark = 1;
-		}
-		for (int j = 0; j < m->nj && !o.nomark && o.ja < 0 && m->dg; j++)
-			if (m->dg[j] != 0)
-				mark[nmark++] = j;
 		ro.mark = mark;
-		ro.nmark = nmark <= 8 || o.ja >= 0 ? nmark : 0;   /* a network: all active */
+		ro.nmark = marks(&o, m, i, mark);
 		char label[64];
 		if (isnan(fr.t[i]))
 			snprintf(label, sizeof label, "frame %d", i);
@@ -335,7 +297,7 @@ int main(int argc, char **argv)
 	free(mark);
 	if (o.format != FMT_PPM) {
 		close(fd);
-		finish_encoder(&o, pid, errfd);
+		cli_spawn_wait(o.ffmpeg, pid, errfd);
 		if (isatty(2))
 			fprintf(stderr, "%s: %s: %d frames, %d x %d, %.6g s at %d per second, tension scale %.3g\n",
 		        cli_name, o.out, fr.n, w, h, (double)fr.n / o.fps, o.fps, scale);

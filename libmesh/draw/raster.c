@@ -186,10 +186,56 @@ static int box_px(double lx, double ly, int width)
 
 void raster_size(double lx, double ly, const raster_opts *o, int *w, int *h)
 {
+	if (o->view[2] > 0) {
+		lx = o->view[2];
+		ly = o->view[3];
+	}
 	*w = o->width + 2 * MARGIN;
 	*h = box_px(lx, ly, o->width) + 2 * MARGIN + BAR_H;
 	*w += *w & 1;
 	*h += *h & 1;
+}
+
+double raster_tension_max(const mesh *m, const model *p)
+{
+	double *per = malloc(((size_t)m->nc + 1) * sizeof *per), s = 0;
+	if (per == NULL)
+		return -1;
+	mesh_perimeters(m, per);
+	for (int j = 0; j < m->nj; j++) {
+		junction_props q;
+		junction_props_get(m, p, per, j, &q);
+		s = fmax(s, fabs(q.tension));
+	}
+	free(per);
+	return s;
+}
+
+int raster_active(const mesh *m, int *mark)
+{
+	int n = 0;
+	for (int j = 0; j < m->nj && m->dg; j++)
+		if (m->dg[j] != 0)
+			mark[n++] = j;
+	return n <= 8 ? n : 0;
+}
+
+void raster_view_junction(const mesh *m, int j, double w, double view[4])
+{
+	double seg[4];
+	draw_junction_segment(m, j, seg);
+	view[2] = w;
+	view[3] = w * m->ly / m->lx;
+	view[0] = 0.5 * (seg[0] + seg[2]) - 0.5 * view[2];
+	view[1] = 0.5 * (seg[1] + seg[3]) - 0.5 * view[3];
+}
+
+/* The image shifts lo..hi (in units of l) that bring [a0, a1] into the
+ * open interval (o, o + w). */
+static void view_range(double a0, double a1, double l, double o, double w, int *lo, int *hi)
+{
+	*lo = (int)floor((o - a1) / l) + 1;
+	*hi = (int)ceil((o + w - a0) / l) - 1;
 }
 
 static const unsigned char black[3] = { 0, 0, 0 }, white[3] = { 255, 255, 255 },
@@ -227,13 +273,24 @@ int raster_mesh(raster *img, const mesh *m, const model *p, const raster_opts *o
 	for (int i = 0; i < o->nmark; i++)
 		if (o->mark[i] < 0 || o->mark[i] >= m->nj)
 			return mesh_error_set(err, 0, MESH_EINVAL, "raster: junction %d out of range", o->mark[i]);
+	if (o->view[2] < 0 || (o->view[2] > 0 && !(o->view[3] > 0)) || !isfinite(o->view[0]) ||
+	    !isfinite(o->view[1]) || !isfinite(o->view[2]) || !isfinite(o->view[3]))
+		return mesh_error_set(err, 0, MESH_EINVAL, "raster: bad view");
 	int w, h;
 	raster_size(m->lx, m->ly, o, &w, &h);
 	if (w != img->w || h != img->h)
-		return mesh_error_set(err, 0, MESH_EINVAL, "raster: a %g x %g box needs a %d x %d image, not %d x %d",
-		                      m->lx, m->ly, w, h, img->w, img->h);
-	int bh = box_px(m->lx, m->ly, o->width);
-	double s = o->width / m->lx;
+		return mesh_error_set(err, 0, MESH_EINVAL, "raster: the view needs a %d x %d image, not %d x %d",
+		                      w, h, img->w, img->h);
+	/* the part drawn: the box, or the view */
+	double vx = 0, vy = 0, vw = m->lx, vh = m->ly;
+	if (o->view[2] > 0) {
+		vx = o->view[0];
+		vy = o->view[1];
+		vw = o->view[2];
+		vh = o->view[3];
+	}
+	int bh = box_px(vw, vh, o->width);
+	double s = o->width / vw;
 	double clip[4] = { MARGIN, MARGIN, MARGIN + o->width, MARGIN + bh };
 	double *poly = malloc(4 * (size_t)draw_longest_cell(m) * sizeof *poly);
 	double *pix = poly ? poly + 2 * (size_t)draw_longest_cell(m) : NULL;
@@ -241,15 +298,15 @@ int raster_mesh(raster *img, const mesh *m, const model *p, const raster_opts *o
 	int st = poly && perim ? MESH_OK : MESH_ENOMEM;
 	memset(img->rgb, 255, 3 * (size_t)img->w * (size_t)img->h);
 	/* pixel coordinates of a point: y up */
-#define PX(x) (MARGIN + s * (x))
-#define PY(y) (MARGIN + s * (m->ly - (y)))
+#define PX(x) (MARGIN + s * ((x) - vx))
+#define PY(y) (MARGIN + s * (vy + vh - (y)))
 	for (int k = 0; k < m->nc && st == MESH_OK; k++) {
 		int n = m->coff[k + 1] - m->coff[k];
 		double bb[4];
 		draw_cell_polygon(m, k, poly, bb);
 		int ilo, ihi, jlo, jhi;
-		draw_image_range(bb[0], bb[1], m->lx, &ilo, &ihi);
-		draw_image_range(bb[2], bb[3], m->ly, &jlo, &jhi);
+		view_range(bb[0], bb[1], m->lx, vx, vw, &ilo, &ihi);
+		view_range(bb[2], bb[3], m->ly, vy, vh, &jlo, &jhi);
 		for (int i = ilo; i <= ihi && st == MESH_OK; i++)
 			for (int j = jlo; j <= jhi && st == MESH_OK; j++) {
 				double dx = i * m->lx, dy = j * m->ly;
@@ -270,23 +327,25 @@ int raster_mesh(raster *img, const mesh *m, const model *p, const raster_opts *o
 			junction_props q;
 			junction_props_get(m, p, perim, j, &q);
 			unsigned char c[3];
-			if (pass)
-				memcpy(c, draw_highlight_rgb, 3);
-			else
-				draw_diverging(q.tension, o->scale, c);
+			draw_diverging(q.tension, o->scale, c);
 			double seg[4];
 			draw_junction_segment(m, j, seg);
 			int ilo, ihi, jlo, jhi;
-			draw_image_range(fmin(seg[0], seg[2]) - 1e-9, fmax(seg[0], seg[2]) + 1e-9, m->lx, &ilo, &ihi);
-			draw_image_range(fmin(seg[1], seg[3]) - 1e-9, fmax(seg[1], seg[3]) + 1e-9, m->ly, &jlo, &jhi);
+			view_range(fmin(seg[0], seg[2]) - 1e-9, fmax(seg[0], seg[2]) + 1e-9, m->lx, vx, vw, &ilo, &ihi);
+			view_range(fmin(seg[1], seg[3]) - 1e-9, fmax(seg[1], seg[3]) + 1e-9, m->ly, vy, vh, &jlo, &jhi);
 			for (int i = ilo; i <= ihi && st == MESH_OK; i++)
 				for (int k = jlo; k <= jhi && st == MESH_OK; k++) {
 					double dx = i * m->lx, dy = k * m->ly;
-					st = raster_line(img, PX(seg[0] + dx), PY(seg[1] + dy), PX(seg[2] + dx),
-					                 PY(seg[3] + dy), pass ? 2.5 * lw : lw, c, clip);
+					/* a marked junction: green around its tension */
+					if (pass)
+						st = raster_line(img, PX(seg[0] + dx), PY(seg[1] + dy), PX(seg[2] + dx),
+						                 PY(seg[3] + dy), 3 * lw, draw_highlight_rgb, clip);
+					if (st == MESH_OK)
+						st = raster_line(img, PX(seg[0] + dx), PY(seg[1] + dy), PX(seg[2] + dx),
+						                 PY(seg[3] + dy), lw, c, clip);
 					/* a dark core: the cells stay outlined where the
 					 * map is pale (tension near zero) */
-					if (st == MESH_OK && !pass && lw >= 3)
+					if (st == MESH_OK && lw >= 3)
 						st = raster_line(img, PX(seg[0] + dx), PY(seg[1] + dy), PX(seg[2] + dx),
 						                 PY(seg[3] + dy), 1, edge, clip);
 				}

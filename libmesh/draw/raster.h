@@ -46,11 +46,27 @@ typedef struct {
 	const int *mark;    /* junctions drawn as the active ones */
 	int nmark;
 	const char *label;  /* text in the upper left corner, or NULL */
+	double view[4];     /* the part drawn: x0, y0, width, height in mesh
+	                       units, any place (periodic images fill it);
+	                       width 0: the box */
 } raster_opts;
 
-/* The image size for a box lx by ly at o->width: even numbers (what video
- * encoders need), the box, a margin and the colour bar. */
+/* The image size for a box lx by ly (or o->view) at o->width: even
+ * numbers (what video encoders need), the box, a margin and the colour
+ * bar. */
 void raster_size(double lx, double ly, const raster_opts *o, int *w, int *h);
+
+/* The largest |tension| of m's junctions (the scale that draws the
+ * strongest at full colour); -1 if out of memory. */
+double raster_tension_max(const mesh *m, const model *p);
+
+/* The active junctions of m (nonzero dg) into mark (nj places), when
+ * there are at most 8 (a network run, where every junction is active,
+ * marks none); how many. */
+int raster_active(const mesh *m, int *mark);
+
+/* The view of width w (and the box's aspect) centred on junction j. */
+void raster_view_junction(const mesh *m, int j, double w, double view[4]);
 
 /* Draw m into img (of raster_size's size for m's box) with model p for
  * the tensions.  MESH_EINVAL for options out of range, a marked junction
