@@ -10,7 +10,9 @@
     df = tis.read_table("fl.tsv")               # pandas; df.attrs["provenance"]
     tis.draw(m, color=m.shape_index())          # matplotlib
 
-The formats are tis-mesh(5) and tis(7)'s tables; see python/README.md.
+The formats are tis-mesh(5) and the tables of tis(7); python/examples/ has a
+notebook-style example, tests in python/tests/ check every function
+against the programs.
 """
 
 from .mesh import Mesh, MeshError, Junctions, read_mesh, read_meshes, write_mesh, mesh_from_text

@@ -105,7 +105,7 @@ def draw(mesh, ax=None, color=None, cmap="viridis", vmin=None, vmax=None,
 
     if ax is None:
         lx, ly = mesh.box
-        _, ax = plt.subplots(figsize=(6.4, 6.4 * ly / lx + 0.3))
+        _, ax = plt.subplots(figsize=(6.4, 6.4 * ly / lx + 0.6), layout="constrained")
     lx, ly = mesh.box
     box = Rectangle((0, 0), lx, ly, transform=ax.transData, facecolor="none")
     polys = polygons(mesh, clip)
@@ -169,11 +169,13 @@ def draw(mesh, ax=None, color=None, cmap="viridis", vmin=None, vmax=None,
             if not 0 <= j < mesh.nj:
                 raise ValueError("highlight: no junction %r" % (h,))
             hs.append(j)
-        hl = LineCollection([s for j, s in segs if j in set(hs)], colors="#00a651",
-                            linewidths=4 * jwidth, capstyle="round", zorder=3)
-        ax.add_collection(hl)
-        if clip:
-            hl.set_clip_path(box)
+        marked = [s for j, s in segs if j in set(hs)]
+        # white under green: the mark stands out on any cell colour
+        for colour, width, z in (("white", 7 * jwidth, 3), ("#00a651", 4 * jwidth, 4)):
+            hl = LineCollection(marked, colors=colour, linewidths=width, capstyle="round", zorder=z)
+            ax.add_collection(hl)
+            if clip:
+                hl.set_clip_path(box)
     ax.add_patch(Rectangle((0, 0), lx, ly, fill=False, edgecolor="black", linewidth=1))
     ax.set_aspect("equal")
     pad = 0.02 * max(lx, ly)
