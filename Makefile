@@ -118,7 +118,7 @@ bench: all
 
 DEBS = libgsl-dev libnlopt-dev libcgal-dev libsuitesparse-dev libsundials-dev liblapacke-dev libopenblas-dev g++ make perl
 # the table and VTK tests use these when present (CI installs them)
-TESTDEBS = python3-pandas gnuplot-nox python3-vtk9 pkgconf groff-base
+TESTDEBS = python3-pandas python3-numpy python3-matplotlib python3-pytest ffmpeg gnuplot-nox python3-vtk9 pkgconf groff-base
 # the sweeps (studies/): GNU parallel; the SLURM test: slurm-wlm
 SWEEPDEBS = parallel procps slurm-wlm
 FIGDEBS = gnuplot-nox
@@ -152,6 +152,14 @@ INCDIR = $(PREFIX)/include/tis
 PCDIR = $(LIBDIR)/pkgconfig
 DOCDIR = $(PREFIX)/share/doc/tis
 DOCS = README.md LICENSE CITATION.cff doc/DESIGN.md doc/relax-energy.c bench/RESULTS.md
+# The Python module (python/tis) goes where Debian's python3 looks for a
+# prefix's modules: PREFIX/lib/python3.N/dist-packages (on sys.path for
+# /usr/local and /usr); the example beside the documentation.
+PYTHON ?= /usr/bin/python3
+PYVER := $(shell $(PYTHON) -c 'import sys; print("python%d.%d" % sys.version_info[:2])' 2>/dev/null || echo python3)
+PYDIR ?= $(PREFIX)/lib/$(PYVER)/dist-packages
+PY_SRC = $(sort $(wildcard python/tis/*.py))
+PY_EXAMPLES = $(sort $(wildcard python/examples/*.py))
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/share/man/man1 \
@@ -169,6 +177,9 @@ install: all
 	  'Libs.private: $(LIBS)' >$(DESTDIR)$(PCDIR)/tis.pc
 	install -m 644 $(DOCS) $(DESTDIR)$(DOCDIR)
 	install -m 644 samples/README.md $(DESTDIR)$(DOCDIR)/samples.md
+	install -d $(DESTDIR)$(PYDIR)/tis $(DESTDIR)$(DOCDIR)/python
+	install -m 644 $(PY_SRC) $(DESTDIR)$(PYDIR)/tis
+	install -m 644 $(PY_EXAMPLES) $(DESTDIR)$(DOCDIR)/python
 
 uninstall:
 	rm -f $(PROGS:$(O)bin/%=$(DESTDIR)$(PREFIX)/bin/%) \
@@ -176,7 +187,10 @@ uninstall:
 	  $(MAN5:man/%=$(DESTDIR)$(PREFIX)/share/man/man5/%) \
 	  $(MAN7:man/%=$(DESTDIR)$(PREFIX)/share/man/man7/%) \
 	  $(addprefix $(DESTDIR)$(INCDIR)/,$(notdir $(LIB_H))) $(DESTDIR)$(LIBDIR)/libtis.a \
-	  $(DESTDIR)$(PCDIR)/tis.pc $(addprefix $(DESTDIR)$(DOCDIR)/,$(notdir $(DOCS)) samples.md)
+	  $(DESTDIR)$(PCDIR)/tis.pc $(addprefix $(DESTDIR)$(DOCDIR)/,$(notdir $(DOCS)) samples.md) \
+	  $(PY_SRC:python/tis/%=$(DESTDIR)$(PYDIR)/tis/%) $(PY_EXAMPLES:python/examples/%=$(DESTDIR)$(DOCDIR)/python/%)
+	rm -rf $(DESTDIR)$(PYDIR)/tis/__pycache__
+	-rmdir $(DESTDIR)$(PYDIR)/tis $(DESTDIR)$(DOCDIR)/python 2>/dev/null
 	-rmdir $(DESTDIR)$(INCDIR) $(DESTDIR)$(DOCDIR) 2>/dev/null
 
 # make fuzz: every fuzz/*.c is a libFuzzer harness (clang, ASan + UBSan,

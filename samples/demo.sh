@@ -6,7 +6,8 @@
 # job: one junction of an ordered sample relaxed at p_hex, its linear
 # stability threshold, and a simulation above it that settles into the
 # paper's limit cycle (1/tau_m 0.19, gamma0 0.11), classified from its
-# trace.  Everything it writes goes to demo-out/.
+# trace, and a movie of one period of that cycle (tis-movie, with
+# Debian's ffmpeg).  Everything it writes goes to demo-out/.
 set -eu
 cd "$(dirname "$0")/.."
 out=demo-out
@@ -49,5 +50,21 @@ tis-active --index 0 --rate 0.19 --gamma0 0.11 --time 1500 --trace "$out/trace.t
 tis-behaviour --l0 "$l0" "$out/trace.tsv" >"$out/behaviour.tsv"
 awk -F '\t' '/^#/ || !h++ { next } { printf "behaviour %s: amplitude %.4f, period %.2f, mean length %.4f\n", $1, $6, $7, $12 }' \
 	"$out/behaviour.tsv"
+
+# one period of the cycle, from the state the run ended in (it carries
+# the junction's tension), a frame per time unit: a movie of 5 seconds
+period=$(awk -F '\t' '/^#/ || !h++ { next } { printf "%.0f", $7 + 1; exit }' "$out/behaviour.tsv")
+case $period in [1-9]*) ;; *) period=60 ;; esac   # not a cycle: 60 time units
+step "tis-active --perturb 0 --time $period --every 1 | tis-movie --window 6 -o $out/cycle.mp4"
+if command -v ffmpeg >/dev/null 2>&1; then
+	tis-active --index 0 --rate 0.19 --gamma0 0.11 --perturb 0 --time "$period" --every 1 \
+		"$out/active.mesh" >"$out/cycle.mesh"
+	tis-movie --fps 15 --window 6 -o "$out/cycle.mp4" "$out/cycle.mesh"
+	echo "movie: $out/cycle.mp4, $(grep -c '^tismesh 1' "$out/cycle.mesh") frames at 15 per second"
+	movie="cycle.mesh cycle.mp4"
+else
+	echo "no ffmpeg: no movie (install Debian's ffmpeg package)"
+	movie=
+fi
 printf '\nfiles in %s/: relaxed.mesh relaxed.svg fl.tsv fit.tsv summary.tsv phex.mesh stability.tsv\n' "$out"
-printf '                 trace.tsv active.mesh behaviour.tsv\n'
+printf '                 trace.tsv active.mesh behaviour.tsv %s\n' "$movie"

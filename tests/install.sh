@@ -3,13 +3,16 @@
 # a temporary PREFIX, and the documented example doc/relax-energy.c built
 # against that copy with pkg-config and run: it relaxes a perturbed
 # honeycomb and its energy is the honeycomb's, 36 (P_hex - p0)^2 at
-# p0 3.6, which tis-info also prints.  Skipped without pkg-config.
+# p0 3.6, which tis-info also prints.  Skipped without pkg-config.  The
+# Python module goes to PREFIX/lib/python3.N/dist-packages, which Debian's
+# python3 has on its path for PREFIX /usr/local, and imports from there;
+# make uninstall removes it.
 . "$(dirname "$0")/lib.sh"
-plan 7
+plan 10
 top=$(cd "$(dirname "$0")/.." && pwd)
 
 if ! command -v pkg-config >/dev/null 2>&1; then
-	skip 7 "pkg-config missing (Debian pkgconf)"
+	skip 10 "pkg-config missing (Debian pkgconf)"
 	done_testing; exit
 fi
 # the same build as the tests (SAN=1: the sanitized library)
@@ -32,4 +35,19 @@ awk '$0 == "<!-- example c -->" { on = 1; next } on && /^<!--/ { exit } on' "$to
 	sed -e 's/^    //' -e '1{/^$/d}' | sed -e '${/^$/d}' >"$T/readme.c"
 ok "the README shows the example as it is in doc/" cmp -s "$T/readme.c" "$top/doc/relax-energy.c"
 fails_with 1 "it reports bad input" sh -c "echo garbage | '$T/relax-energy'"
+
+PY=${PYTHON:-/usr/bin/python3}
+pyver=$("$PY" -c 'import sys; print("python%d.%d" % sys.version_info[:2])' 2>/dev/null || echo python3)
+pydir=$T/p/lib/$pyver/dist-packages
+ok "the Python module is installed in $pyver/dist-packages" test -f "$pydir/tis/__init__.py" -a -f "$pydir/tis/mesh.py"
+if "$PY" -c 'import numpy' 2>/dev/null; then
+	ok "python3 imports it from there (on its path for /usr/local) and reads a mesh" sh -c "
+		'$PY' -c 'import sys; sys.exit(\"/usr/local/lib/$pyver/dist-packages\" not in sys.path)' &&
+		cd / && PYTHONPATH='$pydir' '$PY' -c 'import tis, sys; assert tis.__file__.startswith(sys.argv[1]); print(tis.read_mesh(sys.argv[2]).nc)' '$pydir' '$top/samples/ordered-11.mesh' | grep -qx 324"
+else
+	pass "# skip python3-numpy missing"
+fi
+make -s -C "$top" uninstall PREFIX="$T/p" ${TIS_SAN:+SAN=$TIS_SAN} >"$T/make.out" 2>&1
+ok "make uninstall removes the module, the library and the programs" sh -c "
+	! test -e '$pydir/tis' && ! test -e '$T/p/lib/libtis.a' && ! test -e '$T/p/bin/tis-info'"
 done_testing

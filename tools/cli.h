@@ -6,6 +6,7 @@
 
 #include <signal.h>
 #include <stdio.h>
+#include <sys/types.h>
 #include <time.h>
 
 #include "geom.h"
@@ -184,5 +185,15 @@ extern volatile sig_atomic_t cli_stop;
 void cli_catch_signals(void);
 /* "SIGINT" or "SIGTERM": what set cli_stop. */
 const char *cli_stop_name(void);
+
+/* Run argv[0] (found on PATH) with a pipe to its standard input (*fd)
+ * and one from its standard error (*errfd, read by cli_spawn_wait): its
+ * pid.  Exit 1 with "PROG: not found (hint)" if there is no such program. */
+pid_t cli_spawn(const char *const argv[], const char *hint, int *fd, int *errfd);
+/* Wait for it (close *fd first); exit 1 with "NAME failed (exit N): its
+ * last line of standard error" unless it exited 0.  Its standard error
+ * must stay short (what it writes at -loglevel error): it is read after
+ * the input is written. */
+void cli_spawn_wait(const char *name, pid_t pid, int errfd);
 
 #endif

@@ -1,31 +1,13 @@
 /* svg.c - a mesh drawn as SVG (svg.h).
  *
  * The only geometry drawing needs is the unwrapped cell polygon
- * r[cv[i]] + cimg[i], which the mesh already holds. */
+ * r[cv[i]] + cimg[i], which the mesh already holds (draw.h). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "draw.h"
 #include "svg.h"
-
-/* Side-count bins 3, 4, ..., 8, 9+ (a cell always has >= 3 sides). */
-#define NBIN 7
-static const char *const bin_fill[NBIN] = {
-	"#ffd92f", /* 3: yellow */
-	"#a77cc6", /* 4: purple */
-	"#5fa8d3", /* 5: blue */
-	"#ffffff", /* 6: white, as in the paper */
-	"#f28e4b", /* 7: orange */
-	"#6a3d9a", /* 8: dark purple */
-	"#b2182b", /* 9+: dark red */
-};
-static const char *const bin_name[NBIN] = { "3", "4", "5", "6", "7", "8", "9+" };
-static const char highlight_colour[] = "#00a651";
-
-static int side_bin(int n)
-{
-	return n < 3 ? 0 : n > 9 ? NBIN - 1 : n - 3;
-}
 
 typedef struct {
 	FILE *f;
@@ -37,14 +19,6 @@ typedef struct {
 /* Pixel coordinates; y is flipped so that the mesh's y axis points up. */
 static double px(const canvas *c, double x) { return c->ox + c->s * x; }
 static double py(const canvas *c, double y) { return c->oy + c->s * (c->ly - y); }
-
-/* Images (i, j) of a shape with bounding box [x0,x1] x [y0,y1], shifted
- * by (i lx, j ly), that overlap the open box (0,lx) x (0,ly). */
-static void image_range(double a0, double a1, double l, int *lo, int *hi)
-{
-	*lo = (int)floor(-a1 / l) + 1;   /* a1 + i l > 0 */
-	*hi = (int)ceil((l - a0) / l) - 1; /* a0 + i l < l */
-}
 
 /* Text that is safe inside an XML element: printable ASCII only, markup
  * characters escaped.  History lines may hold any bytes. */
@@ -65,39 +39,18 @@ static void put_xml_text(FILE *f, const char *s)
 	}
 }
 
-static double wrap(double x, double l)
-{
-	double w = x - l * floor(x / l);
-	return (w >= l || w < 0) ? 0.0 : w;
-}
-
 static void draw_cells(const canvas *c, const mesh *m, double *poly)
 {
 	double sw = fmin(fmax(0.02 * c->s, 0.5), 3.0);
 	fprintf(c->f, "<g stroke=\"#333333\" stroke-width=\"%.2f\" stroke-linejoin=\"round\">\n", sw);
 	for (int k = 0; k < m->nc; k++) {
-		int s = m->coff[k], n = m->coff[k + 1] - s;
-		double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-		/* Readers accept coordinates anywhere: start the polygon in the
-		 * box so that only the few images near it are looked at. */
-		int v0 = m->cv[s];
-		double sx = wrap(m->r[2 * v0], m->lx) - m->r[2 * v0];
-		double sy = wrap(m->r[2 * v0 + 1], m->ly) - m->r[2 * v0 + 1];
-		for (int i = 0; i < n; i++) {
-			int v = m->cv[s + i];
-			double x = m->r[2 * v] + m->cimg[2 * (s + i)] + sx;
-			double y = m->r[2 * v + 1] + m->cimg[2 * (s + i) + 1] + sy;
-			poly[2 * i] = x;
-			poly[2 * i + 1] = y;
-			x0 = fmin(x0, x);
-			x1 = fmax(x1, x);
-			y0 = fmin(y0, y);
-			y1 = fmax(y1, y);
-		}
+		int n = m->coff[k + 1] - m->coff[k];
+		double bb[4];
+		draw_cell_polygon(m, k, poly, bb);
 		int ilo, ihi, jlo, jhi;
-		image_range(x0, x1, m->lx, &ilo, &ihi);
-		image_range(y0, y1, m->ly, &jlo, &jhi);
-		const char *fill = bin_fill[side_bin(n)];
+		draw_image_range(bb[0], bb[1], m->lx, &ilo, &ihi);
+		draw_image_range(bb[2], bb[3], m->ly, &jlo, &jhi);
+		const char *fill = draw_bin_fill[draw_side_bin(n)];
 		for (int i = ilo; i <= ihi; i++)
 			for (int j = jlo; j <= jhi; j++) {
 				double dx = i * m->lx, dy = j * m->ly;
@@ -114,16 +67,16 @@ static void draw_cells(const canvas *c, const mesh *m, double *poly)
 static void draw_junction(const canvas *c, const mesh *m, int j)
 {
 	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
-	double xa = wrap(m->r[2 * a], m->lx), ya = wrap(m->r[2 * a + 1], m->ly);
-	double xb = xa + m->r[2 * b] + m->jimg[2 * j] - m->r[2 * a];
-	double yb = ya + m->r[2 * b + 1] + m->jimg[2 * j + 1] - m->r[2 * a + 1];
+	double seg[4];
+	draw_junction_segment(m, j, seg);
+	double xa = seg[0], ya = seg[1], xb = seg[2], yb = seg[3];
 	double sw = fmin(fmax(0.08 * c->s, 3.0), 12.0);
 	int ilo, ihi, jlo, jhi;
 	/* widen by a hair so that a junction lying on a box edge still shows */
-	image_range(fmin(xa, xb) - 1e-9, fmax(xa, xb) + 1e-9, m->lx, &ilo, &ihi);
-	image_range(fmin(ya, yb) - 1e-9, fmax(ya, yb) + 1e-9, m->ly, &jlo, &jhi);
+	draw_image_range(fmin(xa, xb) - 1e-9, fmax(xa, xb) + 1e-9, m->lx, &ilo, &ihi);
+	draw_image_range(fmin(ya, yb) - 1e-9, fmax(ya, yb) + 1e-9, m->ly, &jlo, &jhi);
 	fprintf(c->f, "<g class=\"junction\" stroke=\"%s\" stroke-width=\"%.2f\" "
-		"stroke-linecap=\"round\">\n", highlight_colour, sw);
+		"stroke-linecap=\"round\">\n", draw_highlight, sw);
 	fprintf(c->f, "<title>junction %d-%d</title>\n", a, b);
 	for (int i = ilo; i <= ihi; i++)
 		for (int k = jlo; k <= jhi; k++) {
@@ -151,12 +104,12 @@ static void draw_labels(const canvas *c, const mesh *m)
 			y += m->r[2 * m->cv[i] + 1] + m->cimg[2 * i + 1];
 		}
 		fprintf(c->f, "<text x=\"%.2f\" y=\"%.2f\">%d</text>\n",
-			px(c, wrap(x / n, m->lx)), py(c, wrap(y / n, m->ly)), k);
+			px(c, draw_wrap(x / n, m->lx)), py(c, draw_wrap(y / n, m->ly)), k);
 	}
 	fprintf(c->f, "<g fill=\"#777777\" font-size=\"%.1f\">\n", 0.7 * fs);
 	for (int v = 0; v < m->nv; v++)
 		fprintf(c->f, "<text x=\"%.2f\" y=\"%.2f\">%d</text>\n",
-			px(c, wrap(m->r[2 * v], m->lx)), py(c, wrap(m->r[2 * v + 1], m->ly)), v);
+			px(c, draw_wrap(m->r[2 * v], m->lx)), py(c, draw_wrap(m->r[2 * v + 1], m->ly)), v);
 	fputs("</g>\n</g>\n", c->f);
 }
 
@@ -166,24 +119,24 @@ static void draw_labels(const canvas *c, const mesh *m)
 static int legend_cols(double width)
 {
 	int n = (int)((width - 40) / LEGEND_DX);
-	return n < 1 ? 1 : n > NBIN ? NBIN : n;
+	return n < 1 ? 1 : n > DRAW_NBIN ? DRAW_NBIN : n;
 }
 
 static void draw_legend(const canvas *c, const mesh *m, double top, double width)
 {
-	int count[NBIN] = { 0 };
+	int count[DRAW_NBIN] = { 0 };
 	for (int k = 0; k < m->nc; k++)
-		count[side_bin(m->coff[k + 1] - m->coff[k])]++;
+		count[draw_side_bin(m->coff[k + 1] - m->coff[k])]++;
 	fprintf(c->f, "<g class=\"legend\" font-family=\"sans-serif\" font-size=\"12\" "
 		"dominant-baseline=\"central\">\n");
 	fprintf(c->f, "<text x=\"%.2f\" y=\"%.2f\">sides</text>\n", c->ox, top + 8);
 	int cols = legend_cols(width);
-	for (int b = 0; b < NBIN; b++) {
+	for (int b = 0; b < DRAW_NBIN; b++) {
 		double x = c->ox + 40 + LEGEND_DX * (b % cols), y = top + LEGEND_DY * (b / cols);
 		fprintf(c->f, "<rect x=\"%.2f\" y=\"%.2f\" width=\"14\" height=\"14\" "
-			"fill=\"%s\" stroke=\"#333333\"/>\n", x, y + 1, bin_fill[b]);
+			"fill=\"%s\" stroke=\"#333333\"/>\n", x, y + 1, draw_bin_fill[b]);
 		fprintf(c->f, "<text x=\"%.2f\" y=\"%.2f\">%s: %d</text>\n",
-			x + 18, y + 8, bin_name[b], count[b]);
+			x + 18, y + 8, draw_bin_name[b], count[b]);
 	}
 	fputs("</g>\n", c->f);
 }
@@ -199,15 +152,12 @@ int svg_write(FILE *f, const mesh *m, const svg_opts *o, mesh_error *err)
 	double margin = 10;
 	int cols = legend_cols(o->width);
 	double legend_w = 40 + LEGEND_DX * cols;
-	double legend_h = 10 + LEGEND_DY * ((NBIN + cols - 1) / cols);
+	double legend_h = 10 + LEGEND_DY * ((DRAW_NBIN + cols - 1) / cols);
 	canvas c = { .f = f, .s = o->width / m->lx, .lx = m->lx, .ly = m->ly,
 		     .ox = margin, .oy = margin };
 	double w = o->width, h = c.s * m->ly;
 	double tw = fmax(w, legend_w) + 2 * margin, th = h + legend_h + 2 * margin;
-	int longest = 3;
-	for (int k = 0; k < m->nc; k++)
-		if (m->coff[k + 1] - m->coff[k] > longest)
-			longest = m->coff[k + 1] - m->coff[k];
+	int longest = draw_longest_cell(m);
 	double *poly = malloc(2 * (size_t)longest * sizeof *poly);
 	if (poly == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");

@@ -2,9 +2,12 @@
 #include "vtk.h"
 #include "measure.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "range.h"
 
 /* The points of the dataset: the nv vertices, then the periodic images
  * (vertex, ix, iy) in the order first asked for.  Each vertex keeps a short
@@ -144,9 +147,19 @@ int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t)
 	fputs("<?xml version=\"1.0\"?>\n"
 	      "<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
 	      "<PolyData>\n", f);
+	/* the box and the model, which make the file a mesh again
+	 * (vtk_read_vtp), and the time */
+	fputs("<FieldData>\n", f);
+	fprintf(f, "<DataArray type=\"Float64\" Name=\"Box\" NumberOfTuples=\"1\" "
+	        "NumberOfComponents=\"2\" format=\"ascii\">%.17g %.17g</DataArray>\n", m->lx, m->ly);
+	fprintf(f, "<DataArray type=\"Float64\" Name=\"p0\" NumberOfTuples=\"1\" "
+	        "format=\"ascii\">%.17g</DataArray>\n", p->p0);
+	fprintf(f, "<DataArray type=\"Float64\" Name=\"ka\" NumberOfTuples=\"1\" "
+	        "format=\"ascii\">%.17g</DataArray>\n", p->ka);
 	if (t)
-		fprintf(f, "<FieldData>\n<DataArray type=\"Float64\" Name=\"TimeValue\" "
-		        "NumberOfTuples=\"1\" format=\"ascii\">%.17g</DataArray>\n</FieldData>\n", *t);
+		fprintf(f, "<DataArray type=\"Float64\" Name=\"TimeValue\" "
+		        "NumberOfTuples=\"1\" format=\"ascii\">%.17g</DataArray>\n", *t);
+	fputs("</FieldData>\n", f);
 	int np = m->nv + pt.n;
 	fprintf(f, "<Piece NumberOfPoints=\"%d\" NumberOfVerts=\"0\" NumberOfLines=\"%d\" "
 	        "NumberOfStrips=\"0\" NumberOfPolys=\"%d\">\n", np, nj, nc);
@@ -238,4 +251,365 @@ int vtk_write_pvd(FILE *f, int n, char *const *files, const double *times)
 	}
 	fputs("</Collection>\n</VTKFile>\n", f);
 	return ferror(f) ? MESH_EIO : MESH_OK;
+}
+
+/* ---- reading back what vtk_write_vtp and vtk_write_pvd wrote ---- */
+
+/* The whole of f, NUL-terminated; NULL (and *bad set) if it holds a NUL
+ * byte or is larger than max bytes, or if memory is short. */
+static char *slurp(FILE *f, size_t max, int *bad)
+{
+	size_t n = 0, cap = 65536;
+	char *buf = malloc(cap);
+	*bad = 0;
+	while (buf) {
+		size_t k = fread(buf + n, 1, cap - n - 1, f);
+		n += k;
+		if (k == 0)
+			break;
+		if (n + 1 == cap) {
+			if (cap > max) {
+				*bad = 1;
+				free(buf);
+				return NULL;
+			}
+			char *b = realloc(buf, 2 * cap);
+			if (b == NULL)
+				free(buf);
+			buf = b;
+			cap *= 2;
+		}
+	}
+	if (buf == NULL)
+		return NULL;
+	buf[n] = '\0';
+	if (ferror(f) || strlen(buf) != n) {
+		*bad = 1;
+		free(buf);
+		return NULL;
+	}
+	return buf;
+}
+
+/* The text of the first <DataArray ... Name="name" ...> in [lo, hi), or
+ * with name NULL the first one there: *b, *e its content's ends. */
+static int find_array(const char *lo, const char *hi, const char *name, const char **b,
+                      const char **e)
+{
+	char key[64];
+	snprintf(key, sizeof key, "Name=\"%s\"", name ? name : "");
+	for (const char *p = strstr(lo, "<DataArray"); p && p < hi; p = strstr(p + 1, "<DataArray")) {
+		const char *gt = strchr(p, '>');
+		if (gt == NULL || gt >= hi)
+			return 0;
+		int hit = name == NULL;
+		if (!hit) {
+			const char *k = strstr(p, key);
+			hit = k && k < gt;
+		}
+		if (!hit)
+			continue;
+		const char *end = strstr(gt, "</DataArray>");
+		if (end == NULL || end > hi)
+			return 0;
+		*b = gt + 1;
+		*e = end;
+		return 1;
+	}
+	return 0;
+}
+
+/* The numbers of [b, e) into a new array of *n (NaN too: the cell arrays
+ * hold it where a value does not apply); NULL if one is not a number or
+ * infinite, or memory is short. */
+static double *numbers(const char *b, const char *e, size_t *n)
+{
+	size_t cap = 64;
+	double *v = malloc(cap * sizeof *v);
+	*n = 0;
+	while (v) {
+		while (b < e && (*b == ' ' || *b == '\n' || *b == '\t' || *b == '\r'))
+			b++;
+		if (b >= e)
+			return v;
+		char *end;
+		double x = strtod(b, &end);
+		if (end == b || end > e || isinf(x)) {
+			free(v);
+			return NULL;
+		}
+		if (*n == cap) {
+			double *w = realloc(v, 2 * cap * sizeof *v);
+			if (w == NULL)
+				free(v);
+			v = w;
+			cap *= 2;
+			if (v == NULL)
+				return NULL;
+		}
+		v[(*n)++] = x;
+		b = end;
+	}
+	return NULL;
+}
+
+/* The numbers of the array name in the section [lo, hi), as integers in
+ * [0, max) if max > 0. */
+static double *section_array(const char *lo, const char *hi, const char *name, size_t *n,
+                             double max)
+{
+	const char *b, *e;
+	if (!find_array(lo, hi, name, &b, &e))
+		return NULL;
+	double *v = numbers(b, e, n);
+	for (size_t i = 0; v && max > 0 && i < *n; i++)
+		if (!(v[i] >= 0 && v[i] < max && v[i] == floor(v[i]))) {
+			free(v);
+			return NULL;
+		}
+	return v;
+}
+
+/* The element <tag ...> ... </tag>: its start, *hi its end; NULL if absent. */
+static const char *section(const char *s, const char *tag, const char **hi)
+{
+	char open[32], close[32];
+	snprintf(open, sizeof open, "<%s", tag);
+	snprintf(close, sizeof close, "</%s>", tag);
+	const char *lo = s;
+	size_t n = strlen(open);
+	while ((lo = strstr(lo, open)) && lo[n] != '>' && lo[n] != ' ')
+		lo += n;
+	*hi = lo ? strstr(lo, close) : NULL;
+	return *hi ? lo : NULL;
+}
+
+int vtk_read_vtp(FILE *f, mesh **out, double *t, int *has_t, mesh_error *err)
+{
+	*out = NULL;
+	*has_t = 0;
+	int bad;
+	char *s = slurp(f, (size_t)1 << 31, &bad);
+	if (s == NULL)
+		return bad ? mesh_error_set(err, 0, MESH_EINVAL, "not a text file (or larger than 2 GB)")
+			   : mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	int st = MESH_EINVAL;
+	double *box = NULL, *p0 = NULL, *ka = NULL, *tv = NULL, *pts = NULL, *vert = NULL;
+	double *pc = NULL, *po = NULL, *lc = NULL, *dg = NULL;
+	int *coff = NULL, *cv = NULL;
+	double *r = NULL;
+	mesh *m = NULL;
+	size_t nb, np0, nka, ntv, npts, nvert, npc, npo, nlc, ndg;
+	const char *fhi, *fd = section(s, "FieldData", &fhi);
+	const char *phi, *pt = section(s, "Points", &phi);
+	const char *vhi, *pd = section(s, "PointData", &vhi);
+	const char *chi, *cd = section(s, "CellData", &chi);
+	const char *lhi, *ln = section(s, "Lines", &lhi);
+	const char *qhi, *pl = section(s, "Polys", &qhi);
+	if (strstr(s, "<VTKFile type=\"PolyData\"") == NULL || !pt || !pd || !pl) {
+		st = mesh_error_set(err, 0, MESH_EINVAL, "not a VTK PolyData file in ASCII (as tis-vtk writes)");
+		goto out;
+	}
+	if (!fd || !(box = section_array(fd, fhi, "Box", &nb, 0)) || nb != 2) {
+		st = mesh_error_set(err, 0, MESH_EINVAL, "no Box field data: not written by this tis-vtk");
+		goto out;
+	}
+	p0 = section_array(fd, fhi, "p0", &np0, 0);
+	ka = section_array(fd, fhi, "ka", &nka, 0);
+	tv = section_array(fd, fhi, "TimeValue", &ntv, 0);
+	pts = section_array(pt, phi, NULL, &npts, 0);
+	if (pts == NULL || npts % 3 || npts / 3 > INT_MAX / 8 ||
+	    !(vert = section_array(pd, vhi, "vertex", &nvert, (double)npts / 3)) || nvert != npts / 3) {
+		st = mesh_error_set(err, 0, MESH_EINVAL, "bad Points or vertex array");
+		goto out;
+	}
+	size_t nv = 0;
+	while (nv < nvert && vert[nv] == (double)nv)
+		nv++;
+	pc = section_array(pl, qhi, "connectivity", &npc, (double)nvert);
+	po = section_array(pl, qhi, "offsets", &npo, 0);
+	if (pc == NULL || po == NULL || npo == 0 || npo > INT_MAX / 8) {
+		st = mesh_error_set(err, 0, MESH_EINVAL, "bad Polys arrays");
+		goto out;
+	}
+	coff = malloc((npo + 1) * sizeof *coff);
+	cv = malloc((npc + 1) * sizeof *cv);
+	r = malloc((2 * nv + 1) * sizeof *r);
+	if (!coff || !cv || !r) {
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		goto out;
+	}
+	coff[0] = 0;
+	for (size_t k = 0; k < npo; k++) {
+		if (!(po[k] >= coff[k] && po[k] <= (double)npc && po[k] == floor(po[k]))) {
+			st = mesh_error_set(err, 0, MESH_EINVAL, "bad Polys offsets");
+			goto out;
+		}
+		coff[k + 1] = (int)po[k];
+	}
+	if ((size_t)coff[npo] != npc) {
+		st = mesh_error_set(err, 0, MESH_EINVAL, "bad Polys offsets");
+		goto out;
+	}
+	for (size_t i = 0; i < npc; i++)
+		cv[i] = (int)vert[(size_t)pc[i]];
+	for (size_t v = 0; v < nv; v++) {
+		r[2 * v] = pts[3 * v];
+		r[2 * v + 1] = pts[3 * v + 1];
+	}
+	st = mesh_from_cells(box[0], box[1], (int)nv, r, (int)npo, coff, cv, &m, err);
+	if (st != MESH_OK)
+		goto out;
+	if (p0 && np0 == 1 && mesh_param_set(m, "p0", p0[0]) != MESH_OK)
+		goto nomem;
+	if (ka && nka == 1 && mesh_param_set(m, "ka", ka[0]) != MESH_OK)
+		goto nomem;
+	/* tensions from the lines: the first cell data values are theirs */
+	lc = ln ? section_array(ln, lhi, "connectivity", &nlc, (double)nvert) : NULL;
+	dg = cd ? section_array(cd, chi, "dg", &ndg, 0) : NULL;
+	if (!lc || !dg || nlc % 2 || ndg < nlc / 2) {
+		st = mesh_error_set(err, 0, MESH_EINVAL, "bad Lines or dg arrays");
+		goto out;
+	}
+	{
+		mesh_jindex *ix = mesh_jindex_alloc(m);
+		if (ix == NULL || mesh_tension_alloc(m) != MESH_OK) {
+			mesh_jindex_free(ix);
+			goto nomem;
+		}
+		for (size_t j = 0; j < nlc / 2; j++) {
+			int a = (int)vert[(size_t)lc[2 * j]], b = (int)vert[(size_t)lc[2 * j + 1]];
+			int k = mesh_jindex_find(ix, m, a, b);
+			if (k < 0) {
+				mesh_jindex_free(ix);
+				st = mesh_error_set(err, 0, MESH_EINVAL, "line %zu (%d-%d) is not a junction", j, a, b);
+				goto out;
+			}
+			if (!isfinite(dg[j])) {
+				mesh_jindex_free(ix);
+				st = mesh_error_set(err, 0, MESH_EINVAL, "line %zu: dg is not finite", j);
+				goto out;
+			}
+			m->dg[k] = dg[j];
+		}
+		mesh_jindex_free(ix);
+	}
+	if (tv && ntv == 1) {
+		*t = tv[0];
+		*has_t = 1;
+	}
+	*out = m;
+	m = NULL;
+	st = MESH_OK;
+	goto out;
+nomem:
+	st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+out:
+	mesh_free(m);
+	free(s);
+	free(box);
+	free(p0);
+	free(ka);
+	free(tv);
+	free(pts);
+	free(vert);
+	free(pc);
+	free(po);
+	free(lc);
+	free(dg);
+	free(coff);
+	free(cv);
+	free(r);
+	return st;
+}
+
+/* The value of attribute name in the element [p, gt), malloc'd with the
+ * XML escapes vtk_write_pvd makes undone; NULL if absent. */
+static char *attr(const char *p, const char *gt, const char *name)
+{
+	char key[32];
+	snprintf(key, sizeof key, " %s=\"", name);
+	const char *k = strstr(p, key);
+	if (k == NULL || k > gt)
+		return NULL;
+	k += strlen(key);
+	const char *e = strchr(k, '"');
+	if (e == NULL || e > gt)
+		return NULL;
+	char *v = malloc((size_t)(e - k) + 1), *q = v;
+	if (v == NULL)
+		return NULL;
+	static const struct { const char *esc; char c; } ent[] = {
+		{ "&amp;", '&' }, { "&lt;", '<' }, { "&gt;", '>' }, { "&quot;", '"' } };
+	while (k < e) {
+		size_t i;
+		for (i = 0; i < 4; i++)
+			if (strncmp(k, ent[i].esc, strlen(ent[i].esc)) == 0)
+				break;
+		if (i < 4) {
+			*q++ = ent[i].c;
+			k += strlen(ent[i].esc);
+		} else {
+			*q++ = *k++;
+		}
+	}
+	*q = '\0';
+	return v;
+}
+
+int vtk_read_pvd(FILE *f, char ***files, double **times, int *n, mesh_error *err)
+{
+	*files = NULL;
+	*times = NULL;
+	*n = 0;
+	int bad;
+	char *s = slurp(f, (size_t)1 << 28, &bad);
+	if (s == NULL)
+		return bad ? mesh_error_set(err, 0, MESH_EINVAL, "not a text file (or larger than 256 MB)")
+			   : mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	int st = MESH_OK, cap = 0;
+	if (strstr(s, "<VTKFile type=\"Collection\"") == NULL)
+		st = mesh_error_set(err, 0, MESH_EINVAL, "not a VTK collection (.pvd)");
+	for (const char *p = strstr(s, "<DataSet"); p && st == MESH_OK; p = strstr(p + 1, "<DataSet")) {
+		const char *gt = strchr(p, '>');
+		char *file = gt ? attr(p, gt, "file") : NULL, *ts = gt ? attr(p, gt, "timestep") : NULL;
+		double t;
+		if (file == NULL || *file == '\0' || ts == NULL || !range_number(ts, &t)) {
+			free(file);
+			free(ts);
+			st = mesh_error_set(err, 0, MESH_EINVAL, "DataSet %d: no file or no finite timestep", *n);
+			break;
+		}
+		free(ts);
+		if (*n == cap) {
+			cap = cap ? 2 * cap : 64;
+			char **fs = realloc(*files, (size_t)cap * sizeof *fs);
+			double *tt = fs ? realloc(*times, (size_t)cap * sizeof *tt) : NULL;
+			if (fs)
+				*files = fs;
+			if (tt)
+				*times = tt;
+			if (!fs || !tt) {
+				free(file);
+				st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+				break;
+			}
+		}
+		(*files)[*n] = file;
+		(*times)[*n] = t;
+		(*n)++;
+	}
+	if (st == MESH_OK && *n == 0)
+		st = mesh_error_set(err, 0, MESH_EINVAL, "no DataSet in the collection");
+	if (st != MESH_OK) {
+		for (int i = 0; i < *n; i++)
+			free((*files)[i]);
+		free(*files);
+		free(*times);
+		*files = NULL;
+		*times = NULL;
+		*n = 0;
+	}
+	free(s);
+	return st;
 }

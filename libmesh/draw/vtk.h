@@ -11,7 +11,9 @@
  * then the nc tissue cells (VTK polygons), VTK's order; cell arrays:
  * "id" (junction or cell number), "sides" (0 for a line), "area",
  * "perimeter", "shape" (P/sqrt(A)), and "length", "tension" (2 (P1 - p0)
- * + 2 (P2 - p0) + dg), "dg", each NaN where it does not apply.
+ * + 2 (P2 - p0) + dg), "dg", each NaN where it does not apply.  Field
+ * data: "Box" (lx, ly), "p0", "ka" and, for a frame, "TimeValue", so that
+ * a file is a mesh again (vtk_read_vtp).
  */
 #ifndef TIS_VTK_H
 #define TIS_VTK_H
@@ -27,5 +29,20 @@ int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t);
 
 /* A .pvd collection of n datasets files[i] at times[i]. MESH_EIO. */
 int vtk_write_pvd(FILE *f, int n, char *const *files, const double *times);
+
+/* Read a .vtp that vtk_write_vtp wrote back into a mesh: the box from
+ * its Box field, the vertices its first points (those that are their own
+ * "vertex"), the cells its polygons through the point array "vertex", the
+ * tensions the lines' "dg", p0 and ka as params; *t and *has_t from its
+ * TimeValue.  MESH_EINVAL with the reason for anything else (another
+ * writer's file, a file without Box), or the mesh builder's message for
+ * cells that are not a valid tissue; MESH_ENOMEM. */
+int vtk_read_vtp(FILE *f, mesh **out, double *t, int *has_t, mesh_error *err);
+
+/* The DataSets of a .pvd collection: *n file names (as written, relative
+ * to the .pvd's directory, each malloc'd) and timesteps (malloc'd
+ * arrays).  MESH_EINVAL (not a collection, none, a DataSet without file or
+ * finite timestep), MESH_ENOMEM. */
+int vtk_read_pvd(FILE *f, char ***files, double **times, int *n, mesh_error *err);
 
 #endif
