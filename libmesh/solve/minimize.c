@@ -31,7 +31,7 @@ void min_opts_init(min_opts *o)
 	                 .pcsetup = NULL, .pcapply = NULL, .pcmaxit = 6,
 	                 .precond = 1, .pcmem = 4e9,
 	                 .pckind = MIN_PC_AUTO, .pcblock = MIN_PC_BLOCK,
-	                 .pcoverlap = MIN_PC_OVERLAP, .prox = 0 };
+	                 .pcoverlap = MIN_PC_OVERLAP, .prox = 0, .threads = 1 };
 }
 
 const char *min_algo_name(min_algo a)
@@ -826,6 +826,9 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 			 .overlap = oo.pcoverlap, .prox = oo.prox, .x0 = m->r };
 	if (oo.precond)
 		rc.hs = hessian_sparse_alloc(m);
+	/* out of memory for the threads' scratch: serially, the same numbers */
+	if (rc.ew && oo.threads > 1)
+		energy_ws_threads(rc.ew, oo.threads, oo.thread_min);
 	double *x = malloc(2 * (size_t)m->nv * sizeof *x);
 	int st = MESH_ENOMEM;
 	if (rc.ew && rc.hw && x && (rc.hs || !oo.precond)) {
