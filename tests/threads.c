@@ -9,7 +9,9 @@
 #include <string.h>
 
 #include "geom.h"
+#include "hessian.h"
 #include "lattice.h"
+#include "precond.h"
 #include "tap.h"
 
 static void perturb(mesh *m, double amp, unsigned seed)
@@ -72,6 +74,44 @@ static int same_bits(const mesh *m, int nt, const char *what)
 	return same;
 }
 
+/* The sparse Hessian assembled on nt threads against one, bit for bit;
+ * then the Schwarz preconditioner on its blocks (no coarse level),
+ * analysed and factored on nt threads and applied to a vector, against
+ * one thread. */
+static int hessian_same(const mesh *m, int nt)
+{
+	const model p = { .p0 = 3.7, .ka = 100 };
+	hessian_sparse *h1 = hessian_sparse_alloc(m), *hn = hessian_sparse_alloc(m);
+	if (!h1 || !hn || hessian_sparse_threads(hn, nt, 1) != MESH_OK)
+		return 0;
+	mesh_hessian_sparse(m, m->r, &p, h1);
+	mesh_hessian_sparse(m, m->r, &p, hn);
+	int same = h1->h->nnz == hn->h->nnz &&
+	           memcmp(h1->h->val, hn->h->val, h1->h->nnz * sizeof *h1->h->val) == 0;
+	int n = 2 * m->nv, nb = 13, *part = malloc(n * sizeof *part);
+	double *b = malloc(n * sizeof *b), *x1 = malloc(n * sizeof *x1), *xn = malloc(n * sizeof *xn);
+	for (int i = 0; i < n; i++) {
+		part[i] = (int)((long)(i / 2) * nb / m->nv);
+		b[i] = sin(0.37 * i);
+	}
+	pcschwarz *s1 = pcschwarz_alloc_threads(h1->h, part, nb, 2, NULL, 1);
+	pcschwarz *sn = pcschwarz_alloc_threads(h1->h, part, nb, 2, NULL, nt);
+	double sh1 = 0, shn = 0;
+	same = same && s1 && sn && pcschwarz_precond(s1, h1->h, &sh1) == MESH_OK &&
+	       pcschwarz_precond(sn, h1->h, &shn) == MESH_OK && sh1 == shn &&
+	       pcschwarz_solve(s1, b, x1) == MESH_OK && pcschwarz_solve(sn, b, xn) == MESH_OK &&
+	       memcmp(x1, xn, n * sizeof *x1) == 0;
+	pcschwarz_free(s1);
+	pcschwarz_free(sn);
+	hessian_sparse_free(h1);
+	hessian_sparse_free(hn);
+	free(part);
+	free(b);
+	free(x1);
+	free(xn);
+	return same;
+}
+
 /* m with its cells in a random order, so that its junctions (numbered as
  * the cells are read) are too. */
 static mesh *shuffled(const mesh *m)
@@ -105,7 +145,7 @@ static mesh *shuffled(const mesh *m)
 
 int main(void)
 {
-	tap_plan(9);
+	tap_plan(11);
 	mesh_error err;
 	mesh *small = NULL, *mid = NULL, *big = NULL;
 	/* 324 cells: one block of W; 60 x 60 = 3600 cells, four; 200 x 200,
@@ -129,6 +169,9 @@ int main(void)
 	mesh *sh = shuffled(mid);
 	ok(sh && sh->kok && same_bits(sh, 3, "shuffled"),
 	   "junctions in random order (the serial fallback): bit for bit as 1");
+	ok(hessian_same(mid, 2) && hessian_same(mid, 3) && hessian_same(small, 7),
+	   "sparse Hessian and Schwarz factors on 2, 3, 7 threads bit for bit as on 1");
+	ok(sh && hessian_same(sh, 3), "the same with the cells in random order");
 	energy_ws *w = energy_ws_alloc(small);
 	ok(w && energy_ws_threads(w, 0, 0) == MESH_EDOM &&
 	   energy_ws_threads(w, ENERGY_MAXTHREADS + 1, 0) == MESH_EDOM &&
