@@ -7,7 +7,7 @@
 # history and provenance lines, which hold the command line.  Bad counts
 # are usage errors.
 . "$(dirname "$0")/lib.sh"
-plan 12
+plan 13
 export TIS_THREAD_MIN=1
 unset OMP_NUM_THREADS
 
@@ -29,6 +29,10 @@ same() {
 	fi
 }
 same "tis-relax" tis-relax -q "$T/v.mesh"
+# above the default threshold, the program's own settings: a sparse
+# factorization on more than one OpenBLAS thread would show here
+tis-voronoi --seed 5 8300 >"$T/big.mesh"
+same "tis-relax, 16600 vertices, default threshold" env -u TIS_THREAD_MIN tis-relax -q --maxeval 40 "$T/big.mesh"
 same "tis-relax --precond schwarz" tis-relax -q --precond schwarz --block 40 "$T/v.mesh"
 same "tis-anneal" tis-anneal --stage 0.3:1 --stage 0:1 --relax 1 --seed 2 "$T/v.mesh"
 cp "$T/out.1" "$T/anneal.out"

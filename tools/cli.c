@@ -197,12 +197,15 @@ int cli_threads_apply(int n, int inner)
 		long c = sysconf(_SC_NPROCESSORS_ONLN);
 		n = c >= 1 && c <= ENERGY_MAXTHREADS ? (int)c : 1;
 	}
-	int in = inner ? n : 1;
-	if (getenv("OPENBLAS_NUM_THREADS") == NULL)
-		openblas_set_num_threads(in);
+	/* OpenBLAS stays on the one thread of cli_init: on more, CHOLMOD's
+	 * factorization of the same matrix has other bits (measured:
+	 * bench/RESULTS.md, "Every core").  CHOLMOD's own parallel loops (its
+	 * supernodes' copies, the same bits on any count) take the default
+	 * team size. */
 #ifdef _OPENMP
-	/* CHOLMOD's own parallel loops take the default team size */
-	omp_set_num_threads(in);
+	omp_set_num_threads(inner ? n : 1);
+#else
+	(void)inner;
 #endif
 	return n;
 }

@@ -75,12 +75,12 @@ void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, lon
  * cli_threads parses N (1..ENERGY_MAXTHREADS, else a usage error).
  * cli_threads_apply takes it (n < 1: none given, then OMP_NUM_THREADS,
  * else every online core) and returns the count.  inner: the program
- * computes on one thread that hands its work to n (the library's kernel,
- * Hessian and preconditioner, and OpenBLAS, whose count it sets unless
- * OPENBLAS_NUM_THREADS does, and CHOLMOD's own OpenMP loops, through
- * the default team size); 0: the program runs n workers of its own
- * (tis-forcelen), and each computes on one thread, OpenBLAS and CHOLMOD
- * on one.  Their threads never run at the same time as the library's. */
+ * computes on one thread that hands its loops to n (the library's
+ * kernel, Hessian and preconditioner, and CHOLMOD's own OpenMP loops,
+ * through the default team size); 0: the program runs n workers of its
+ * own (tis-forcelen), each on one thread.  OpenBLAS keeps one thread
+ * either way (cli_init; OPENBLAS_NUM_THREADS overrides it): on more, the
+ * sparse factorization's bits depend on the count. */
 int cli_threads(const char *arg);
 int cli_threads_apply(int n, int inner);
 /* The smallest tissue (vertices) on which the library uses threads:
