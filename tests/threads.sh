@@ -29,8 +29,7 @@ same() {
 	fi
 }
 same "tis-relax" tis-relax -q "$T/v.mesh"
-# above the default threshold, the program's own settings: a sparse
-# factorization on more than one OpenBLAS thread would show here
+# above the default threshold, at the program's own settings
 tis-voronoi --seed 5 8300 >"$T/big.mesh"
 same "tis-relax, 16600 vertices, default threshold" env -u TIS_THREAD_MIN tis-relax -q --maxeval 40 "$T/big.mesh"
 same "tis-relax --precond schwarz" tis-relax -q --precond schwarz --block 40 "$T/v.mesh"
