@@ -245,7 +245,7 @@ int hessian_sparse_threads(hessian_sparse *hs, int n, int min_nv)
 		return MESH_OK;
 	/* the entries shared by cells on both sides of a seam between two
 	 * threads' cell ranges; more, and the assembly runs again serially */
-	size_t cap = (size_t)hs->h->nnz / 8 + 4096;
+	size_t cap = (size_t)hs->h->nnz / (8 * (size_t)n) + 16384;
 	hs->dcap = (int)(cap < (size_t)1 << 30 ? cap : (size_t)1 << 30);
 	hs->dn = malloc((size_t)n * sizeof *hs->dn);
 	hs->dpos = malloc((size_t)n * hs->dcap * sizeof *hs->dpos);

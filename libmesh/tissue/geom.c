@@ -135,27 +135,9 @@ energy_ws *energy_ws_alloc(const mesh *m)
 	return w;
 }
 
-void energy_ws_free(energy_ws *w)
+/* The threads' scratch freed: w serial. */
+static void ws_serial(energy_ws *w)
 {
-	if (w == NULL)
-		return;
-	free(w->len);
-	free(w->vec);
-	free(w->cc);
-	free(w->fj);
-	free(w->wblk);
-	free(w->dn);
-	free(w->dv);
-	free(w->dt);
-	free(w->q2);
-	free(w);
-}
-
-int energy_ws_threads(energy_ws *w, int n, int min_nv)
-{
-	if (n < 1 || n > ENERGY_MAXTHREADS)
-		return MESH_EDOM;
-	w->par_nv = min_nv > 0 ? min_nv : ENERGY_PAR_NV;
 	free(w->fj);
 	free(w->wblk);
 	free(w->dn);
@@ -165,16 +147,36 @@ int energy_ws_threads(energy_ws *w, int n, int min_nv)
 	w->fj = w->dn = w->dv = NULL;
 	w->wblk = w->dt = w->q2 = NULL;
 	w->nthr = 1;
+}
+
+void energy_ws_free(energy_ws *w)
+{
+	if (w == NULL)
+		return;
+	ws_serial(w);
+	free(w->len);
+	free(w->vec);
+	free(w->cc);
+	free(w);
+}
+
+int energy_ws_threads(energy_ws *w, int n, int min_nv)
+{
+	if (n < 1 || n > ENERGY_MAXTHREADS)
+		return MESH_EDOM;
+	w->par_nv = min_nv > 0 ? min_nv : ENERGY_PAR_NV;
+	ws_serial(w);
 #ifndef _OPENMP
 	n = 1;
 #endif
 	if (n == 1)
 		return MESH_OK;
 	/* the terms deferred at the seams between the threads' junction
-	 * ranges: in spatial order a few rows of cells per seam (measured:
-	 * bench/RESULTS.md, "Every core"); more than this room, and pass 3
-	 * runs again serially, the same numbers */
-	size_t cap = (size_t)w->nj / 4 + 1024;
+	 * ranges: in spatial order about two rows of cells per seam (680
+	 * ends per seam at 10^5 cells, measured: bench/RESULTS.md, "Every
+	 * core"); more than this room, and pass 3 runs again serially, the
+	 * same numbers */
+	size_t cap = (size_t)w->nj / (8 * (size_t)n) + 4096;
 	w->dcap = (int)(cap < (size_t)1 << 30 ? cap : (size_t)1 << 30);
 	w->fj = malloc(((size_t)w->nv + 1) * sizeof *w->fj);
 	w->wblk = malloc(((size_t)w->nc / KERNEL_WBLOCK + 2) * sizeof *w->wblk);
@@ -183,7 +185,7 @@ int energy_ws_threads(energy_ws *w, int n, int min_nv)
 	w->dv = malloc((size_t)n * w->dcap * sizeof *w->dv);
 	w->dt = malloc(2 * (size_t)n * w->dcap * sizeof *w->dt);
 	if (!w->fj || !w->wblk || !w->dn || !w->q2 || !w->dv || !w->dt) {
-		energy_ws_threads(w, 1, min_nv);
+		ws_serial(w);
 		return MESH_ENOMEM;
 	}
 	w->nthr = n;
