@@ -14,7 +14,8 @@
 # Parts:
 #   1. the Euler step's library calls (force kernel with tensions, move)
 #      per vertex-step, 324 cells to 10^5, in one process (threads-bench
-#      step): where threads start to pay (ENERGY_PAR_NV, geom.h)
+#      step): where threads start to pay (ENERGY_PAR_NV, geom.h); again
+#      with OMP_WAIT_POLICY=passive
 #   2. a STREAM-like copy on 1 and NT threads: the memory-bandwidth bound
 #   3. tis-anneal, a short noisy stage and a quench on a Lloyd-Voronoi
 #      tissue (10^5 cells: --stage 0.3:0.1 --stage 0:0.1 --relax 0), wall
@@ -45,6 +46,12 @@ load
 printf 'part\tcells\tvertices\tthreads\tns_1_best\tns_NT_best\tns_1_mean\tns_NT_mean\tbits\n'
 for n in $SIZES; do
 	"$T/threads-bench" step "$n" "$NT" "$ROUNDS"
+done
+load
+# waiting threads asleep instead of spinning: what a busy machine wants
+echo "# OMP_WAIT_POLICY=passive"
+for n in $SIZES; do
+	OMP_WAIT_POLICY=passive "$T/threads-bench" step "$n" "$NT" "$ROUNDS"
 done
 load
 printf 'part\tMB\tthreads\tGBs_1\tGBs_NT\tratio\n'
