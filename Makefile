@@ -25,10 +25,13 @@ OPT ?= -O2 -march=x86-64-v2
 CFLAGS ?= $(OPT) -g
 CXXFLAGS ?= $(OPT) -g
 WARN = -Wall -Wextra
+# OpenMP for the threads of the kernel, the Hessian and the preconditioner
+# (the numbers do not depend on their count: geom.h)
+OMP = -fopenmp
 LIB_INC = $(LAYERS:%=-Ilibmesh/%)
-ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(LIB_INC) -DTIS_VERSION='"$(VERSION)"' $(CFLAGS)
-ALL_CXXFLAGS = -std=c++17 $(WARN) $(LIB_INC) $(CXXFLAGS)
-LIBS = -lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -llapacke -lopenblas -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread
+ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(OMP) $(LIB_INC) -DTIS_VERSION='"$(VERSION)"' $(CFLAGS)
+ALL_CXXFLAGS = -std=c++17 $(WARN) $(OMP) $(LIB_INC) $(CXXFLAGS)
+LIBS = -lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -llapacke -lopenblas -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread -lgomp
 
 # SAN=1 builds everything with sanitizers into build-san/, apart from the
 # normal objects, so the two never mix.

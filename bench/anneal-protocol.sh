@@ -16,6 +16,8 @@
 set -eu
 T=$(mktemp -d "${TMPDIR:-/tmp}/tis-proto.XXXXXX")
 trap 'rm -rf "$T"' EXIT
+# the runs are the parallelism: one core each
+export OMP_NUM_THREADS=1
 tis-hex 18 18 --p0 3.65 >"$T/hex.mesh"
 export T PROTO_MELT="${PROTO_MELT:-3000}" PROTO_ARGS="${PROTO_ARGS:-}"
 echo "# sigma	ou_dt	seed	user_s	steps	t1s	f6	(0.5:$PROTO_MELT, sigma:7000, relax 1000${PROTO_ARGS:+, $PROTO_ARGS})"

@@ -31,7 +31,7 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/cellgpu.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 E=$T/energy-bench
 ${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh/core -Ilibmesh/tissue -Ilibmesh/solve -Ilibmesh/dynamics -Ilibmesh/analysis -Ilibmesh/draw \
-	bench/energy-bench.c libmesh/libmesh.a -lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread \
+	bench/energy-bench.c libmesh/libmesh.a -lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread -lgomp \
 	-o "$E"
 export OMP_NUM_THREADS=1
 

@@ -12,7 +12,7 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/chol-bench.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 cc -std=c11 -D_POSIX_C_SOURCE=200809L -O2 -march=x86-64-v2 -I"$top/libmesh/core" -I"$top/libmesh/tissue" -I"$top/libmesh/solve" -I"$top/libmesh/dynamics" -I"$top/libmesh/analysis" -I"$top/libmesh/draw" \
 	-o "$tmp/chol-bench" "$top/bench/chol-bench.c" "$top/libmesh/libmesh.a" \
-	-lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread
+	-lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread -lgomp
 sizes="18 32 64 100"
 [ "${CHOL_BIG:-1}" = 0 ] || sizes="$sizes 316"
 echo "# load: $(uptime)"

@@ -13,11 +13,11 @@ mkdir -p bench/out
 . bench/lib.sh
 bench_cc bench/out/energy-bench bench/energy-bench.c
 ${CC:-cc} -O2 -march=x86-64-v2 -g -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh/core -Ilibmesh/tissue -Ilibmesh/solve -Ilibmesh/dynamics -Ilibmesh/analysis -Ilibmesh/draw \
-	-DKERNEL_BIG_NV=0 -c libmesh/tissue/geom.c -o bench/out/geom-lean.o 2>/dev/null
+	-fopenmp -DKERNEL_BIG_NV=0 -c libmesh/tissue/geom.c -o bench/out/geom-lean.o 2>/dev/null
 ${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh/core -Ilibmesh/tissue -Ilibmesh/solve -Ilibmesh/dynamics -Ilibmesh/analysis -Ilibmesh/draw \
 	bench/energy-bench.c bench/out/geom-lean.o libmesh/libmesh.a -lcholmod \
 	-lsundials_cvode -lsundials_nvecserial -lnlopt -lgsl -lgslcblas -lgmp -lmpfr \
-	-lstdc++ -lm -lpthread -o bench/out/energy-bench-lean
+	-lstdc++ -lm -lpthread -lgomp -o bench/out/energy-bench-lean
 [ $# -gt 0 ] || set -- 324 16384 1000000
 pin=
 command -v taskset >/dev/null && pin="taskset -c 1"

@@ -11,7 +11,7 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/relax-bench.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 cc -std=c11 -D_POSIX_C_SOURCE=200809L -O2 -march=x86-64-v2 -I"$top/libmesh/core" -I"$top/libmesh/tissue" -I"$top/libmesh/solve" -I"$top/libmesh/dynamics" -I"$top/libmesh/analysis" -I"$top/libmesh/draw" \
 	-o "$tmp/relax-bench" "$top/bench/relax-bench.c" "$top/libmesh/libmesh.a" \
-	-lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread
+	-lcholmod -lsundials_cvode -lsundials_nvecserial -lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread -lgomp
 mkdir -p "$top/bench/out"
 out=$top/bench/out/relax.tsv
 tis-hex 18 18 >"$tmp/hex.mesh"

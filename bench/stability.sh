@@ -18,7 +18,7 @@ trap 'rm -rf "$T"' EXIT
 mkdir -p bench/out
 ${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L -Ilibmesh/core -Ilibmesh/tissue -Ilibmesh/solve -Ilibmesh/dynamics -Ilibmesh/analysis -Ilibmesh/draw \
 	bench/eigen-bench.c libmesh/libmesh.a -lcholmod -lsundials_cvode -lsundials_nvecserial \
-	-lnlopt -llapacke -lopenblas -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread \
+	-lnlopt -llapacke -lopenblas -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread -lgomp \
 	-o bench/out/eigen-bench
 echo "# load: $(cut -d' ' -f1-3 /proc/loadavg), $(nproc) cores"
 echo "# eigensolver: n, solver, OPENBLAS_NUM_THREADS, best seconds, max |H u - d u|"

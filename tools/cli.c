@@ -12,6 +12,9 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "range.h"
 
@@ -173,6 +176,51 @@ long cli_long(const char *opt, const char *arg, long lo, long hi)
 	if (v < lo || v > hi)
 		cli_usage_error("%s: %ld is out of range [%ld, %ld]", opt, v, lo, hi);
 	return v;
+}
+
+int cli_threads(const char *arg)
+{
+	return (int)cli_long("--threads", arg, 1, ENERGY_MAXTHREADS);
+}
+
+/* OMP_NUM_THREADS as libgomp reads it: its first entry, a count > 0. */
+static int env_threads(void)
+{
+	const char *e = getenv("OMP_NUM_THREADS");
+	char *end;
+	long v = e ? strtol(e, &end, 10) : 0;
+	return e && end != e && (*end == '\0' || *end == ',') && v > 0 && v <= ENERGY_MAXTHREADS ?
+	       (int)v : 0;
+}
+
+int cli_threads_apply(int n, int inner)
+{
+	if (n < 1)
+		n = env_threads();
+	if (n < 1) {
+		long c = sysconf(_SC_NPROCESSORS_ONLN);
+		n = c >= 1 && c <= ENERGY_MAXTHREADS ? (int)c : 1;
+	}
+	/* OpenBLAS stays on the one thread of cli_init: on more, CHOLMOD's
+	 * factorization of the same matrix has other bits (measured:
+	 * bench/RESULTS.md, "Every core").  CHOLMOD's own parallel loops (its
+	 * supernodes' copies, the same bits on any count) take the default
+	 * team size. */
+#ifdef _OPENMP
+	omp_set_num_threads(inner ? n : 1);
+#else
+	(void)inner;
+#endif
+	return n;
+}
+
+int cli_thread_min(void)
+{
+	const char *e = getenv("TIS_THREAD_MIN");
+	long v;
+	if (e == NULL || !range_long(e, 1, INT_MAX, &v))
+		return 0;
+	return (int)v;
 }
 
 const char *cli_input_name(const char *path)

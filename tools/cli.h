@@ -72,6 +72,23 @@ int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n);
  * loop: A is optarg, B the next argument (optind moves past it). */
 void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b);
 
+/* --threads N, one meaning in every program: the cores it computes on.
+ * cli_threads parses N (1..ENERGY_MAXTHREADS, else a usage error).
+ * cli_threads_apply takes it (n < 1: none given, then OMP_NUM_THREADS,
+ * else every online core) and returns the count.  inner: the program
+ * computes on one thread that hands its loops to n (the library's
+ * kernel, Hessian and preconditioner, and CHOLMOD's own OpenMP loops,
+ * through the default team size); 0: the program runs n workers of its
+ * own (tis-forcelen), each on one thread.  OpenBLAS keeps one thread
+ * either way (cli_init; OPENBLAS_NUM_THREADS overrides it): on more, the
+ * sparse factorization's bits depend on the count. */
+int cli_threads(const char *arg);
+int cli_threads_apply(int n, int inner);
+/* The smallest tissue (vertices) on which the library uses threads:
+ * TIS_THREAD_MIN if set to a count > 0 (the tests set it to 1 to run the
+ * threaded code on small tissues), else 0 (the library's default). */
+int cli_thread_min(void);
+
 /* Model parameters given on the command line (--p0, --ka), which
  * override the mesh's: cli_model gives the model of m with them,
  * cli_model_set writes them into m's params (exit 1 if out of memory). */

@@ -18,7 +18,7 @@ static const char usage[] =
 	"       [--rate R | --tau T] [--gamma0 G] [--sigma S] [--p0 X] [--ka Y] [--time T]\n"
 	"       [--perturb EPS] [--seed N] [--scheme bdf|euler|split] [--rtol X] [--checkpoint T]\n"
 	"       [--dt DT] [--dr DR] [--t1 L] [--t1-new L] [--t1-again F] [--collapse L] [--trace FILE]\n"
-	"       [--trace-every T] [--watch K,..] [--events FILE] [--every T] [MESH]";
+	"       [--trace-every T] [--watch K,..] [--events FILE] [--every T] [--threads N] [MESH]";
 static const char help[] =
 	"Integrate active junction tensions (paper eq. 1) with the overdamped vertex\n"
 	"dynamics (eq. 2) from a force-free mesh plus a small random perturbation of\n"
@@ -61,6 +61,7 @@ static const char help[] =
 	"  --events FILE      TSV of every T1\n"
 	"  --every T          also write the mesh every T time units (one junction\n"
 	"                     or --network, not --random or --list)\n"
+	"  --threads N        cores to compute on (default: OMP_NUM_THREADS, else all)\n"
 	"  -h, --help         this help\n"
 	"  --version          print the version\n";
 
@@ -107,12 +108,14 @@ static struct opts parse(int argc, char **argv)
 		{ "watch", required_argument, NULL, O_WATCH },
 		{ "events", required_argument, NULL, O_EVENTS },
 		{ "every", required_argument, NULL, O_EVERY },
+		{ "threads", required_argument, NULL, 'T' },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
 	struct opts o = { .jo = { .perturb = -1, .seed = 1, .t_end = 1000, .trace_every = 1 } };
 	act_opts_init(&o.a);
+	o.a.threads = 0;
 	int c, li;
 	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
 		switch (c) {
@@ -147,6 +150,7 @@ static struct opts parse(int argc, char **argv)
 		case O_EVENTS: o.events = optarg; break;
 		case O_WATCH: o.jo.watch = cli_int_list("--watch", optarg, 0, INT_MAX, &o.jo.nwatch); break;
 		case O_EVERY: o.jo.every = cli_double_range("--every", optarg, 1e-9, 1e12); break;
+		case 'T': o.a.threads = cli_threads(optarg); break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
 		default: cli_bad_option(argv, c);
@@ -174,6 +178,8 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("--trace with several junctions needs one %%d in the file name");
 	if (multi && o.events && !cli_one_d(o.events))
 		cli_usage_error("--events with several junctions needs one %%d in the file name");
+	o.a.threads = cli_threads_apply(o.a.threads, 1);
+	o.a.thread_min = cli_thread_min();
 	return o;
 }
 

@@ -18,7 +18,7 @@ static const char usage[] =
 	"[--sigma S | --stage SIGMA:DURATION ...] [--relax T] [--tau T] [--seed N]\n"
 	"       [--p0 X] [--ka Y] [--every T] [--log FILE] [--log-every T]\n"
 	"       [--dt DT] [--dr DR] [--ou-dt H] [--settle F] [--implicit TOL] [--t1 L]\n"
-	"       [--t1-new L] [FILE]";
+	"       [--t1-new L] [--threads N] [FILE]";
 static const char help[] =
 	"Overdamped vertex dynamics with Ornstein-Uhlenbeck noise on every junction\n"
 	"tension and T1 transitions, run as a protocol of stages.  The default is the\n"
@@ -48,6 +48,7 @@ static const char help[] =
 	"                        and T1 events (default 0: explicit steps)\n"
 	"  --t1 L                T1 threshold length (default 0.01, 0: no T1s)\n"
 	"  --t1-new L            length of a junction made by a T1 (default 0.001)\n"
+	"  --threads N           cores to compute on (default: OMP_NUM_THREADS, else all)\n"
 	"  -h, --help            this help\n"
 	"  --version             print the version\n";
 
@@ -102,12 +103,14 @@ static struct opts parse(int argc, char **argv)
 		{ "implicit", required_argument, NULL, O_IMPLICIT },
 		{ "t1", required_argument, NULL, O_T1 },
 		{ "t1-new", required_argument, NULL, O_T1NEW },
+		{ "threads", required_argument, NULL, 'T' },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
 	struct opts o = { 0 };
 	anneal_opts_init(&o.a);
+	o.a.d.threads = 0;
 	int c;
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
 		switch (c) {
@@ -128,6 +131,7 @@ static struct opts parse(int argc, char **argv)
 		case O_IMPLICIT: o.a.d.implicit = cli_double_range("--implicit", optarg, 0, 1); break;
 		case O_T1: o.a.d.t1_length = cli_double_range("--t1", optarg, 0, 0.5); break;
 		case O_T1NEW: o.a.d.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
+		case 'T': o.a.d.threads = cli_threads(optarg); break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
 		default: cli_bad_option(argv, c);
@@ -141,6 +145,8 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("at most one input file");
 	o.input = optind < argc ? argv[optind] : NULL;
 	o.a.name = cli_input_name(o.input);
+	o.a.d.threads = cli_threads_apply(o.a.d.threads, 1);
+	o.a.d.thread_min = cli_thread_min();
 	return o;
 }
 

@@ -50,7 +50,8 @@ static const char help[] =
 	"  --max-memory SIZE  with --linear: refuse a mesh whose decomposition needs\n"
 	"                   more (bytes, or with k, M, G, T: 8G); default the memory\n"
 	"                   available now\n"
-	"  --threads N      worker threads (2)\n"
+	"  --threads N      cores to compute on, one junction's sweep on each\n"
+	"                   (default: OMP_NUM_THREADS, else all; at most 64)\n"
 	"  -h, --help       this help\n"
 	"  --version        print the version\n"
 	"\n"
@@ -98,7 +99,7 @@ static struct opts parse(int argc, char **argv)
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
-	struct opts o = { .js = { .kind = JSEL_NONE, .seed = 1 }, .relax = 1, .threads = 2 };
+	struct opts o = { .js = { .kind = JSEL_NONE, .seed = 1 }, .relax = 1, .threads = 0 };
 	fl_opts_init(&o.fl);
 	const char *sweep_opt = NULL;   /* the first option only a sweep uses */
 	int c;
@@ -136,6 +137,9 @@ static struct opts parse(int argc, char **argv)
 		default: cli_bad_option(argv, c);
 		}
 	}
+	o.threads = cli_threads_apply(o.threads, 0);
+	if (o.threads > FL_MAXTHREADS)
+		o.threads = FL_MAXTHREADS;
 	if (o.js.kind == JSEL_NONE)
 		cli_usage_error("choose junctions with --junction, --index, --random or --all");
 	if (o.linear && sweep_opt)

@@ -13,7 +13,7 @@
 static const char usage[] =
 	"[--p0 X] [--ka Y] [--ftol F] [--maxeval N] [--algo NAME] [--no-polish]\n"
 	"       [--no-precond] [--precond KIND] [--block N]\n"
-	"       [--overlap L] [--accept] [--strict] [-q] [MESH]";
+	"       [--overlap L] [--threads N] [--accept] [--strict] [-q] [MESH]";
 static const char help[] =
 	"Minimize the vertex-model energy W over all vertex positions at fixed\n"
 	"topology and write the relaxed mesh to stdout.  Every mesh of the input\n"
@@ -36,6 +36,7 @@ static const char help[] =
 	"                (two-level Schwarz on Hilbert patches, memory linear)\n"
 	"  --block N     schwarz: vertices per patch (default 2048)\n"
 	"  --overlap L   schwarz: layers of overlap between patches (default 2)\n"
+	"  --threads N   cores to compute on (default: OMP_NUM_THREADS, else all)\n"
 	"  --accept      exit 0 also when the force tolerance was missed\n"
 	"  --strict      exit 3 when it was missed (the default; for old scripts)\n"
 	"  -q, --quiet   no report (a missed tolerance is still reported)\n"
@@ -62,6 +63,7 @@ static struct opts parse(int argc, char **argv)
 		{ "precond", required_argument, NULL, 'K' },
 		{ "block", required_argument, NULL, 'b' },
 		{ "overlap", required_argument, NULL, 'O' },
+		{ "threads", required_argument, NULL, 'T' },
 		{ "strict", no_argument, NULL, 's' },
 		{ "accept", no_argument, NULL, 'A' },
 		{ "quiet", no_argument, NULL, 'q' },
@@ -71,6 +73,7 @@ static struct opts parse(int argc, char **argv)
 	};
 	struct opts o = { 0 };
 	min_opts_init(&o.mo);
+	o.mo.threads = 0;
 	int c;
 	while ((c = getopt_long(argc, argv, ":hq", lo, NULL)) != -1) {
 		switch (c) {
@@ -98,6 +101,7 @@ static struct opts parse(int argc, char **argv)
 			break;
 		case 'O': o.mo.pcoverlap = (int)cli_long("--overlap", optarg, 0, 1000); break;
 		case 'b': o.mo.pcblock = (int)cli_long("--block", optarg, 2, 100000000); break;
+		case 'T': o.mo.threads = cli_threads(optarg); break;
 		case 's': o.strict = 1; break;
 		case 'A': o.accept = 1; break;
 		case 'q': o.quiet = 1; break;
@@ -115,6 +119,8 @@ static struct opts parse(int argc, char **argv)
 	if (argc - optind > 1)
 		cli_usage_error("at most one mesh file");
 	o.path = optind < argc ? argv[optind] : NULL;
+	o.mo.threads = cli_threads_apply(o.mo.threads, 1);
+	o.mo.thread_min = cli_thread_min();
 	return o;
 }
 

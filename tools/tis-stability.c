@@ -12,7 +12,7 @@
 static const char usage[] =
 	"[--junction A B | --index K | --list FILE | --all] (--rate LIST | --tau LIST)\n"
 	"       [--gamma0 LIST] [--p0 X] [--ka Y] [--dense] [--network] [--max-memory SIZE]\n"
-	"       [MESH]";
+	"       [--threads N] [MESH]";
 static const char help[] =
 	"Linear stability of the force-free state of a tissue with one active\n"
 	"junction (paper eqs. 1-2): one eigendecomposition of the Hessian per mesh,\n"
@@ -41,6 +41,8 @@ static const char help[] =
 	"  --solver NAME    lapack (dsyevd, default) or gsl (gsl_eigen_symmv)\n"
 	"  --max-memory SIZE  refuse a mesh whose dense work needs more (bytes, or\n"
 	"                   with k, M, G, T: 8G); default the memory available now\n"
+	"  --threads N      cores to compute on (default: OMP_NUM_THREADS, else\n"
+	"                   all); the eigensolver stays on OpenBLAS's one thread\n"
 	"  -h, --help       this help\n"
 	"  --version        print the version\n"
 	"\n"
@@ -57,6 +59,7 @@ struct opts {
 	cli_model_opts mo;
 	stab_opts so;
 	const char *max_memory;   /* --max-memory, NULL: the memory available */
+	int threads;
 	const char *input;
 };
 
@@ -80,6 +83,7 @@ static struct opts parse(int argc, char **argv)
 		{ "zero-tol", required_argument, NULL, O_ZTOL },
 		{ "solver", required_argument, NULL, O_SOLVER },
 		{ "max-memory", required_argument, NULL, O_MAXMEM },
+		{ "threads", required_argument, NULL, 'T' },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
@@ -121,6 +125,7 @@ static struct opts parse(int argc, char **argv)
 				cli_usage_error("--solver: unknown eigensolver '%s'", optarg);
 			break;
 		case O_MAXMEM: o.max_memory = optarg; break;
+		case 'T': o.threads = cli_threads(optarg); break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
 		default: cli_bad_option(argv, c);
@@ -138,6 +143,7 @@ static struct opts parse(int argc, char **argv)
 	if (argc - optind > 1)
 		cli_usage_error("at most one input file");
 	o.input = optind < argc ? argv[optind] : NULL;
+	cli_threads_apply(o.threads, 1);
 	return o;
 }
 

@@ -15,7 +15,7 @@ void act_opts_init(act_opts *o)
 	*o = (act_opts){ .scheme = ACT_BDF, .tau = 1, .gamma0 = 0, .sigma = 0,
 			 .rtol = 1e-9, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
 			 .t1_new = 1e-3, .t1_again = ACT_T1_AGAIN, .l_collapse = 1e-3,
-			 .checkpoint = ACT_BDF_CHECKPOINT };
+			 .checkpoint = ACT_BDF_CHECKPOINT, .threads = 1 };
 }
 
 const char *act_end_name(act_end e)
@@ -109,6 +109,8 @@ static int euler_dyn(act *a, mesh_error *err)
 	/* the collapse of an active junction is found by the observer; this
 	 * only keeps a passive one from passing through zero */
 	d.l_stop = 1e-12;
+	d.threads = o->threads;
+	d.thread_min = o->thread_min;
 	int st = dyn_alloc(a->m, &a->p, &d, a->seed, &a->d, err);
 	if (st != MESH_OK)
 		return st;

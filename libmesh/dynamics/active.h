@@ -89,6 +89,8 @@ typedef struct {
 	double checkpoint;  /* BDF: restart the integrator at multiples of this
 	                       time, where a stop request is honoured
 	                       (ACT_BDF_CHECKPOINT; 0: never, stop at once) */
+	int threads;        /* Euler: threads for the step (dyn_opts; 1) */
+	int thread_min;     /* on at least this many vertices (0: the default) */
 } act_opts;
 
 void act_opts_init(act_opts *o);

@@ -21,7 +21,7 @@ void dyn_opts_init(dyn_opts *o)
 	*o = (dyn_opts){ .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0.01,
 			 .t1_new = 1e-3, .tau = 1, .sigma = 0, .mode = DYN_OU,
 			 .gamma0 = 0, .l_stop = 1e-6, .ou_dt = 0, .settle = 0,
-			 .t1_again = 0, .split = 0, .implicit = 0 };
+			 .t1_again = 0, .split = 0, .implicit = 0, .threads = 1 };
 }
 
 static int check_opts(const dyn_opts *o, mesh_error *err)
@@ -41,6 +41,8 @@ static int check_opts(const dyn_opts *o, mesh_error *err)
 		return mesh_error_set(err, 0, MESH_EDOM, "settle must be non-negative");
 	if (!(o->implicit >= 0 && isfinite(o->implicit)))
 		return mesh_error_set(err, 0, MESH_EDOM, "implicit must be non-negative");
+	if (o->threads < 1 || o->threads > ENERGY_MAXTHREADS)
+		return mesh_error_set(err, 0, MESH_EDOM, "threads must be in 1..%d", ENERGY_MAXTHREADS);
 	if (!(o->tau > 0 && isfinite(o->tau)) || !(o->sigma >= 0 && isfinite(o->sigma)) ||
 	    !isfinite(o->gamma0))
 		return mesh_error_set(err, 0, MESH_EDOM, "tau must be positive, sigma non-negative");
@@ -64,6 +66,9 @@ int dyn_alloc(mesh *m, const model *p, const dyn_opts *o, unsigned long seed,
 	d->seed = seed;
 	d->fsettle_next = -1;
 	d->ws = energy_ws_alloc(m);
+	/* out of memory for the threads' scratch: serially, the same numbers */
+	if (d->ws && o->threads > 1)
+		energy_ws_threads(d->ws, o->threads, o->thread_min);
 	d->f = malloc(2 * (size_t)m->nv * sizeof *d->f);
 	d->jd = malloc(3 * nj * sizeof *d->jd);
 	d->lprev = malloc(nj * sizeof *d->lprev);
@@ -377,6 +382,8 @@ static int settle(dyn *d, double t_end, double lshort)
 		return -1;
 	min_opts mo;
 	min_opts_init(&mo);
+	mo.threads = d->o.threads;
+	mo.thread_min = d->o.thread_min;
 	int st = mesh_relax(c, &d->p, &mo, NULL);
 	/* stepping T1s a junction once it is below lshort and shrinking, so a
 	 * minimum is the stepped one only if no junction ends below lshort

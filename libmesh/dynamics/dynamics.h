@@ -120,6 +120,10 @@ typedef struct {
 	                      dg) once a step changes a length by more than it
 	                      is long, which dr_max = t1_new = 1e-3 allows for a
 	                      junction just made by a T1 */
+	int threads;       /* threads for the step's kernel and move (1: none;
+	                      the numbers do not depend on it, geom.h) */
+	int thread_min;    /* on a tissue of at least this many vertices
+	                      (0: ENERGY_PAR_NV) */
 } dyn_opts;
 
 void dyn_opts_init(dyn_opts *o);

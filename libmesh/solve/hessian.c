@@ -1,8 +1,13 @@
 /* hessian.c - Hessian-vector products of W and the dense Hessian. */
 #include "hessian.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 struct hessian_ws {
 	double *jd;   /* 3 per junction: dx, dy, l */
@@ -151,8 +156,9 @@ hessian_sparse *hessian_sparse_alloc(const mesh *m)
 	int *ij = malloc((2 * (size_t)npairs + 2) * sizeof *ij);
 	hs->poff = malloc(((size_t)m->nc + 1) * sizeof *hs->poff);
 	hs->pos = malloc(((size_t)npos + 1) * sizeof *hs->pos);
-	hs->loc = malloc((4 * (size_t)hs->nmax * hs->nmax + 9 * (size_t)hs->nmax + 1) *
-	                 sizeof *hs->loc);
+	hs->nloc = 4 * hs->nmax * hs->nmax + 9 * hs->nmax + 1;
+	hs->loc = malloc((size_t)hs->nloc * sizeof *hs->loc);
+	hs->nthr = 1;
 	if (ij == NULL || hs->poff == NULL || hs->pos == NULL || hs->loc == NULL)
 		goto fail;
 	long q = 0;
@@ -187,6 +193,14 @@ hessian_sparse *hessian_sparse_alloc(const mesh *m)
 			}
 		hs->poff[k + 1] = hs->poff[k] + n2 * n2;
 	}
+	if ((hs->fc = malloc(((size_t)hs->h->nnz + 1) * sizeof *hs->fc)) == NULL)
+		goto fail;
+	for (int p = 0; p < hs->h->nnz; p++)
+		hs->fc[p] = INT_MAX;
+	for (int k = m->nc - 1; k >= 0; k--)
+		for (int i = hs->poff[k]; i < hs->poff[k + 1]; i++)
+			if (hs->pos[i] >= 0)
+				hs->fc[hs->pos[i]] = k;
 	return hs;
 fail:
 	free(ij);
@@ -202,7 +216,47 @@ void hessian_sparse_free(hessian_sparse *hs)
 	free(hs->poff);
 	free(hs->pos);
 	free(hs->loc);
+	free(hs->fc);
+	free(hs->dn);
+	free(hs->dpos);
+	free(hs->dval);
 	free(hs);
+}
+
+int hessian_sparse_threads(hessian_sparse *hs, int n, int min_nv)
+{
+	if (n < 1 || n > ENERGY_MAXTHREADS)
+		return MESH_EDOM;
+	hs->par_nv = min_nv > 0 ? min_nv : ENERGY_PAR_NV;
+	free(hs->dn);
+	free(hs->dpos);
+	free(hs->dval);
+	hs->dn = hs->dpos = NULL;
+	hs->dval = NULL;
+	hs->nthr = 1;
+#ifndef _OPENMP
+	n = 1;
+#endif
+	double *loc = realloc(hs->loc, (size_t)n * hs->nloc * sizeof *loc);
+	if (loc == NULL)
+		return n == 1 ? MESH_OK : MESH_ENOMEM;
+	hs->loc = loc;
+	if (n == 1)
+		return MESH_OK;
+	/* the entries shared by cells on both sides of a seam between two
+	 * threads' cell ranges; more, and the assembly runs again serially */
+	size_t cap = (size_t)hs->h->nnz / (8 * (size_t)n) + 16384;
+	hs->dcap = (int)(cap < (size_t)1 << 30 ? cap : (size_t)1 << 30);
+	hs->dn = malloc((size_t)n * sizeof *hs->dn);
+	hs->dpos = malloc((size_t)n * hs->dcap * sizeof *hs->dpos);
+	hs->dval = malloc((size_t)n * hs->dcap * sizeof *hs->dval);
+	if (!hs->dn || !hs->dpos || !hs->dval)
+	{
+		hessian_sparse_threads(hs, 1, min_nv);
+		return MESH_ENOMEM;
+	}
+	hs->nthr = n;
+	return MESH_OK;
 }
 
 /* Per cell, with unwrapped corners q_i: dA/dq_i = perp(q_{i+1} - q_{i-1})/2
@@ -210,16 +264,19 @@ void hessian_sparse_free(hessian_sparse *hs)
  * (d2A/dx_i dy_{i+1} = 1/2, d2A/dy_i dx_{i+1} = -1/2); each side e from
  * corner i to i+1 adds -u to dP/dq_i and +u to dP/dq_{i+1}, and
  * K = (I - u u^T)/l to grad^2 P on (i, i) and (i+1, i+1), -K on (i, i+1). */
-void mesh_hessian_sparse(const mesh *m, const double *r, const model *p,
-                         hessian_sparse *hs)
+/* Cells k0 <= k < k1 into hs->h with the scratch B.  par: an entry whose
+ * first cell lies before k0 is not added in place (another thread adds to
+ * it) but deferred, in cell order, to (dpos, dval); *nd counts them. */
+static void hessian_cells(const mesh *m, const double *r, const model *p, hessian_sparse *hs,
+                          int k0, int k1, double *B, int par, int *dpos, double *dval, int *nd)
 {
-	spsym_zero(hs->h);
-	double *val = hs->h->val, *B = hs->loc;
+	double *val = hs->h->val;
 	const int nm = hs->nmax;
 	double *gA = B + 4 * nm * nm, *gP = gA + 2 * nm, *qx = gP + 2 * nm;
 	double *qy = qx + nm, *cP = qy + nm;
 	const double ka = p->ka, p0 = p->p0;
-	for (int k = 0; k < m->nc; k++) {
+	int n = 0;
+	for (int k = k0; k < k1; k++) {
 		int s = m->coff[k], ns = m->coff[k + 1] - s, n2 = 2 * ns;
 		double x0 = r[2 * m->cv[s]], y0 = r[2 * m->cv[s] + 1];
 		for (int i = 0; i < ns; i++) {
@@ -290,9 +347,61 @@ void mesh_hessian_sparse(const mesh *m, const double *r, const model *p,
 		for (int I = 0; I < n2; I++)
 			for (int J = 0; J < n2; J++) {
 				int at = pk[I * n2 + J];
-				if (at >= 0)
-					val[at] += B[I * n2 + J] + 2 * ka * gA[I] * gA[J] +
-					           2 * gP[I] * gP[J];
+				if (at < 0)
+					continue;
+				double v = B[I * n2 + J] + 2 * ka * gA[I] * gA[J] + 2 * gP[I] * gP[J];
+				if (par && hs->fc[at] < k0) {
+					if (n < hs->dcap) {
+						dpos[n] = at;
+						dval[n] = v;
+					}
+					n++;
+				} else {
+					val[at] += v;
+				}
 			}
+	}
+	*nd = n;
+}
+
+void mesh_hessian_sparse(const mesh *m, const double *r, const model *p,
+                         hessian_sparse *hs)
+{
+	int nd = 0;
+	if (hs->nthr < 2 || m->nv < hs->par_nv) {
+		spsym_zero(hs->h);
+		hessian_cells(m, r, p, hs, 0, m->nc, hs->loc, 0, NULL, NULL, &nd);
+		return;
+	}
+	int ovf = 0;
+#pragma omp parallel num_threads(hs->nthr)
+	{
+#ifdef _OPENMP
+		int t = omp_get_thread_num(), nt = omp_get_num_threads();
+		long long nnz = hs->h->nnz;
+		size_t z0 = (size_t)(nnz * t / nt), z1 = (size_t)(nnz * (t + 1) / nt);
+		memset(hs->h->val + z0, 0, (z1 - z0) * sizeof *hs->h->val);
+#pragma omp barrier
+		int k0 = (int)((long long)m->nc * t / nt), k1 = (int)((long long)m->nc * (t + 1) / nt);
+		int *dpos = hs->dpos + (size_t)t * hs->dcap;
+		double *dval = hs->dval + (size_t)t * hs->dcap;
+		hessian_cells(m, r, p, hs, k0, k1, hs->loc + (size_t)t * hs->nloc, 1, dpos, dval,
+		              hs->dn + t);
+#pragma omp barrier
+		if (t == 0) {
+			/* the deferred terms in the threads' order, each thread's in
+			 * cell order: every entry's sum in cell order */
+			for (int u = 0; u < nt; u++)
+				ovf |= hs->dn[u] > hs->dcap;
+			for (int u = 0; u < nt && !ovf; u++)
+				for (int i = 0; i < hs->dn[u]; i++)
+					hs->h->val[hs->dpos[(size_t)u * hs->dcap + i]] +=
+						hs->dval[(size_t)u * hs->dcap + i];
+		}
+#endif
+	}
+	if (ovf) {
+		spsym_zero(hs->h);
+		hessian_cells(m, r, p, hs, 0, m->nc, hs->loc, 0, NULL, NULL, &nd);
 	}
 }

@@ -76,12 +76,24 @@ typedef struct {
 	int *poff;      /* nc + 1 offsets into pos */
 	int *pos;       /* per cell, (2n)^2: position in h of local entry
 	                   (I, J), or -1 when it belongs to the upper triangle */
-	double *loc;    /* scratch for one cell's block */
+	double *loc;    /* scratch for one cell's block (per thread) */
 	int nmax;       /* most sides of a cell */
+	int nloc;       /* doubles of loc per thread */
+	int *fc;        /* per entry of h: the first cell adding to it */
+	int nthr;       /* threads of mesh_hessian_sparse (1: none) */
+	int par_nv;     /* on at least this many vertices */
+	int dcap;       /* per thread: room for deferred terms */
+	int *dn, *dpos; /* per thread: how many, and their entries */
+	double *dval;   /* their values */
 } hessian_sparse;
 
 /* Pattern and maps for m's topology.  NULL if out of memory. */
 hessian_sparse *hessian_sparse_alloc(const mesh *m);
+/* n threads for mesh_hessian_sparse on at least min_nv vertices (<= 0:
+ * ENERGY_PAR_NV), as energy_ws_threads: the values are the serial ones,
+ * bit for bit (each entry summed in cell order).  MESH_EDOM, MESH_ENOMEM
+ * (hs then has none). */
+int hessian_sparse_threads(hessian_sparse *hs, int n, int min_nv);
 void hessian_sparse_free(hessian_sparse *hs);
 
 /* The Hessian of W at r into hs->h (hs from this mesh's topology):

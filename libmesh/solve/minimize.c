@@ -31,7 +31,7 @@ void min_opts_init(min_opts *o)
 	                 .pcsetup = NULL, .pcapply = NULL, .pcmaxit = 6,
 	                 .precond = 1, .pcmem = 4e9,
 	                 .pckind = MIN_PC_AUTO, .pcblock = MIN_PC_BLOCK,
-	                 .pcoverlap = MIN_PC_OVERLAP, .prox = 0 };
+	                 .pcoverlap = MIN_PC_OVERLAP, .prox = 0, .threads = 1 };
 }
 
 const char *min_algo_name(min_algo a)
@@ -615,6 +615,8 @@ typedef struct {
 	min_pckind kind;      /* which (never AUTO once the first is built) */
 	int pcblock;          /* min_opts.pcblock */
 	int overlap;          /* min_opts.pcoverlap */
+	int threads;          /* min_opts.threads, where the tissue is large
+	                         enough for them (thread_min) */
 	int have;             /* ch or sw holds a factor */
 	double prox;          /* min_opts.prox: weight of |x - x0|^2 / 2 */
 	const double *x0;     /* its centre (the mesh's coordinates) */
@@ -732,7 +734,7 @@ static pcschwarz *relax_schwarz(const relax_ctx *rc, const double *x)
 			int b = (int)((long)r * nb / nv);
 			part[2 * k[r].v] = part[2 * k[r].v + 1] = b;
 		}
-		sw = pcschwarz_alloc(rc->hs->h, part, nb, rc->overlap, &g.co);
+		sw = pcschwarz_alloc_threads(rc->hs->h, part, nb, rc->overlap, &g.co, rc->threads);
 		mesh_pcgrid_free(&g);
 	}
 	free(k);
@@ -823,9 +825,18 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 		return MESH_OK;
 	relax_ctx rc = { .m = m, .p = p, .ew = energy_ws_alloc(m), .hw = hessian_ws_alloc(m),
 			 .pcmem = oo.pcmem, .kind = oo.pckind, .pcblock = oo.pcblock,
-			 .overlap = oo.pcoverlap, .prox = oo.prox, .x0 = m->r };
+			 .overlap = oo.pcoverlap, .prox = oo.prox, .x0 = m->r, .threads = 1 };
 	if (oo.precond)
 		rc.hs = hessian_sparse_alloc(m);
+	/* out of memory for the threads' scratch: serially, the same numbers */
+	if (oo.threads > 1) {
+		if (rc.ew)
+			energy_ws_threads(rc.ew, oo.threads, oo.thread_min);
+		if (rc.hs)
+			hessian_sparse_threads(rc.hs, oo.threads, oo.thread_min);
+		if (m->nv >= (oo.thread_min > 0 ? oo.thread_min : ENERGY_PAR_NV))
+			rc.threads = oo.threads;
+	}
 	double *x = malloc(2 * (size_t)m->nv * sizeof *x);
 	int st = MESH_ENOMEM;
 	if (rc.ew && rc.hw && x && (rc.hs || !oo.precond)) {

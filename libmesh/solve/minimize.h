@@ -100,6 +100,11 @@ typedef struct {
 	                      (gradflow.h).  Then the coordinates are not
 	                      wrapped into the box, so that r - r0 is the
 	                      step's displacement */
+	int threads;       /* mesh_relax: threads for its kernel, Hessian and
+	                      preconditioner (1, the default: none; the
+	                      numbers do not depend on it, geom.h) */
+	int thread_min;    /* on a tissue of at least this many vertices
+	                      (0: ENERGY_PAR_NV) */
 } min_opts;
 
 typedef struct {

@@ -5,6 +5,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "mesh.h"
 
@@ -26,6 +29,7 @@ struct pcschwarz {
 	double *wb, *wc, *wx; /* scratch: largest block, coarse vector, n */
 	int annz;
 	int ok;               /* every factor usable */
+	int nthr;             /* threads over the blocks (1: none) */
 };
 
 void pcschwarz_free(pcschwarz *s)
@@ -300,7 +304,18 @@ out:
 pcschwarz *pcschwarz_alloc(const spsym *a, const int *part, int nblock, int overlap,
 			   const pccoarse *co)
 {
+	return pcschwarz_alloc_threads(a, part, nblock, overlap, co, 1);
+}
+
+pcschwarz *pcschwarz_alloc_threads(const spsym *a, const int *part, int nblock, int overlap,
+                                   const pccoarse *co, int threads)
+{
 	const int n = a->n;
+	if (threads < 1 || threads > 1024)
+		return NULL;
+#ifndef _OPENMP
+	threads = 1;
+#endif
 	if (nblock < 1 || nblock > n || overlap < 0 ||
 	    (co && (co->k < 1 || co->k > 16 || co->nelem < 1 || co->nnode < 1)))
 		return NULL;
@@ -310,12 +325,16 @@ pcschwarz *pcschwarz_alloc(const spsym *a, const int *part, int nblock, int over
 	s->n = n;
 	s->nblock = nblock;
 	s->annz = a->nnz;
+	s->nthr = threads < nblock ? threads : nblock;
 	s->part = malloc(((size_t)n + 1) * sizeof *s->part);
 	s->ba = calloc((size_t)nblock, sizeof *s->ba);
 	s->bc = calloc((size_t)nblock, sizeof *s->bc);
 	s->src = calloc((size_t)nblock, sizeof *s->src);
-	int *loc = malloc(((size_t)n + 1) * sizeof *loc), *ij = NULL;
-	int *mark = malloc(((size_t)n + 1) * sizeof *mark);
+	/* grow_blocks needs one mark; the blocks' setup one loc, mark and ij
+	 * per thread */
+	const int nt = s->nthr;
+	int *loc = malloc(((size_t)n * nt + 1) * sizeof *loc), *ij = NULL;
+	int *mark = malloc(((size_t)n * nt + 1) * sizeof *mark);
 	if (!s->part || !s->ba || !s->bc || !s->src || !loc || !mark)
 		goto fail;
 	for (int i = 0; i < n; i++) {
@@ -338,14 +357,31 @@ pcschwarz *pcschwarz_alloc(const spsym *a, const int *part, int nblock, int over
 	}
 	s->wb = malloc(((size_t)big + 1) * sizeof *s->wb);
 	s->wx = malloc(((size_t)n + 1) * sizeof *s->wx);
-	ij = malloc((2 * most + 2) * sizeof *ij);
+	ij = malloc((2 * most + 2) * nt * sizeof *ij);
 	if (s->wb == NULL || s->wx == NULL || ij == NULL)
 		goto fail;
-	for (int i = 0; i < n; i++)
+	for (size_t i = 0; i < (size_t)n * nt; i++)
 		mark[i] = -1;
-	for (int b = 0; b < nblock; b++)
-		if (block_setup(s, a, b, loc, mark, ij) != 0)
-			goto fail;
+	/* the blocks are independent: each thread its own scratch, the same
+	 * analysis of each block whichever thread does it */
+	int bad = 0;
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1) if (nt > 1)
+	for (int b = 0; b < nblock; b++) {
+		int t = 0;
+#ifdef _OPENMP
+		t = omp_get_thread_num();
+#endif
+		int fail;
+#pragma omp atomic read
+		fail = bad;
+		if (!fail && block_setup(s, a, b, loc + (size_t)t * n, mark + (size_t)t * n,
+		                         ij + (2 * most + 2) * t) != 0) {
+#pragma omp atomic write
+			bad = 1;
+		}
+	}
+	if (bad)
+		goto fail;
 	if (co && coarse_setup(s, a, co) != 0)
 		goto fail;
 	free(loc);
@@ -373,14 +409,31 @@ int pcschwarz_factor(pcschwarz *s, const spsym *a, double shift)
 	s->ok = 0;
 	if (a->n != s->n || a->nnz != s->annz || !isfinite(shift))
 		return MESH_EDOM;
+	/* the blocks on threads, each factor its own: the same numbers; a
+	 * failure ends the try (the lowest failing block's status) */
+	int st = MESH_OK, stb = s->nblock;
+#pragma omp parallel for num_threads(s->nthr) schedule(dynamic, 1) if (s->nthr > 1)
 	for (int b = 0; b < s->nblock; b++) {
+		int first;
+#pragma omp atomic read
+		first = stb;
+		if (first < b)
+			continue;
 		spsym *bb = s->ba[b];
 		for (int p = 0; p < bb->nnz; p++)
 			bb->val[p] = a->val[s->src[b][p]];
-		int st = spchol_factor(s->bc[b], bb, shift);
-		if (st != MESH_OK)
-			return st;
+		int sb = spchol_factor(s->bc[b], bb, shift);
+		if (sb != MESH_OK) {
+#pragma omp critical(pcschwarz_fail)
+			if (b < stb) {
+#pragma omp atomic write
+				stb = b;
+				st = sb;
+			}
+		}
 	}
+	if (st != MESH_OK)
+		return st;
 	if (s->ca) {
 		/* A_0 = P^T (A + shift I) P from the lower triangle of A: an
 		 * entry off A's diagonal stands for itself and its mirror, so

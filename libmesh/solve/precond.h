@@ -52,6 +52,10 @@ typedef struct {
  * of range or a block is empty. */
 pcschwarz *pcschwarz_alloc(const spsym *a, const int *part, int nblock, int overlap,
 			   const pccoarse *co);
+/* The same, the blocks analysed and later factored (pcschwarz_factor) on
+ * up to threads threads (OpenMP); the same factors at any count. */
+pcschwarz *pcschwarz_alloc_threads(const spsym *a, const int *part, int nblock, int overlap,
+                                   const pccoarse *co, int threads);
 void pcschwarz_free(pcschwarz *s);
 
 /* Bytes the numeric factors hold (spchol_bytes summed), known after

@@ -4,6 +4,9 @@
 
 #include <math.h>
 #include <stdlib.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
@@ -78,9 +81,25 @@ double cell_perimeter(const mesh *m, const double *r, int k)
 #define KERNEL_BIG_NV 65536
 #endif
 
+/* W is summed per block of this many cells, the blocks' sums then in
+ * block order: the same blocks for any thread count, so the same W; a
+ * tissue of at most this many cells sums as one block, its W the plain
+ * sum in cell order. */
+#define KERNEL_WBLOCK 1024
+
 struct energy_ws {
-	int nc, nj;
+	int nv, nc, nj;
 	int simd;     /* 1: the kernel's AVX2 build (energy_ws_simd) */
+	int nthr;     /* threads (energy_ws_threads); 1: none */
+	int par_nv;   /* the fewest vertices that use them */
+	int *fj;      /* threads: per vertex its lowest-numbered junction */
+	double *wblk; /* threads: per block of cells the sum of their W */
+	int dcap;     /* per thread: room for this many deferred terms */
+	int *dn;      /* per thread: deferred terms held */
+	int *dv;      /* per thread, dcap: 2 v + (the vertex's last junction) */
+	double *dt;   /* per thread, 2 dcap: the terms */
+	double *q2;   /* per thread: its largest |grad_v|^2 */
+	int ovf;      /* a thread ran out of room: pass 3 again, serially */
 	double *len;  /* per junction: its length */
 	double *vec;  /* 2 per junction: its vector; NULL on a large tissue,
 	                 where the gradient pass computes it again */
@@ -97,9 +116,14 @@ energy_ws *energy_ws_alloc(const mesh *m)
 	energy_ws *w = malloc(sizeof *w);
 	if (w == NULL)
 		return NULL;
+	w->nv = m->nv;
 	w->nc = m->nc;
 	w->nj = m->nj;
 	w->simd = 0;
+	w->nthr = 1;
+	w->par_nv = ENERGY_PAR_NV;
+	w->fj = w->dn = w->dv = NULL;
+	w->wblk = w->dt = w->q2 = NULL;
 	energy_ws_simd(w, 1);
 	w->len = malloc(((size_t)m->nj + 1) * sizeof *w->len);
 	w->vec = m->nv <= KERNEL_BIG_NV ? malloc((2 * (size_t)m->nj + 1) * sizeof *w->vec) : NULL;
@@ -111,14 +135,66 @@ energy_ws *energy_ws_alloc(const mesh *m)
 	return w;
 }
 
+/* The threads' scratch freed: w serial. */
+static void ws_serial(energy_ws *w)
+{
+	free(w->fj);
+	free(w->wblk);
+	free(w->dn);
+	free(w->dv);
+	free(w->dt);
+	free(w->q2);
+	w->fj = w->dn = w->dv = NULL;
+	w->wblk = w->dt = w->q2 = NULL;
+	w->nthr = 1;
+}
+
 void energy_ws_free(energy_ws *w)
 {
 	if (w == NULL)
 		return;
+	ws_serial(w);
 	free(w->len);
 	free(w->vec);
 	free(w->cc);
 	free(w);
+}
+
+int energy_ws_threads(energy_ws *w, int n, int min_nv)
+{
+	if (n < 1 || n > ENERGY_MAXTHREADS)
+		return MESH_EDOM;
+	w->par_nv = min_nv > 0 ? min_nv : ENERGY_PAR_NV;
+	ws_serial(w);
+#ifndef _OPENMP
+	n = 1;
+#endif
+	if (n == 1)
+		return MESH_OK;
+	/* the terms deferred at the seams between the threads' junction
+	 * ranges: in spatial order about two rows of cells per seam (680
+	 * ends per seam at 10^5 cells, measured: bench/RESULTS.md, "Every
+	 * core"); more than this room, and pass 3 runs again serially, the
+	 * same numbers */
+	size_t cap = (size_t)w->nj / (8 * (size_t)n) + 4096;
+	w->dcap = (int)(cap < (size_t)1 << 30 ? cap : (size_t)1 << 30);
+	w->fj = malloc(((size_t)w->nv + 1) * sizeof *w->fj);
+	w->wblk = malloc(((size_t)w->nc / KERNEL_WBLOCK + 2) * sizeof *w->wblk);
+	w->dn = malloc((size_t)n * sizeof *w->dn);
+	w->q2 = malloc((size_t)n * sizeof *w->q2);
+	w->dv = malloc((size_t)n * w->dcap * sizeof *w->dv);
+	w->dt = malloc(2 * (size_t)n * w->dcap * sizeof *w->dt);
+	if (!w->fj || !w->wblk || !w->dn || !w->q2 || !w->dv || !w->dt) {
+		ws_serial(w);
+		return MESH_ENOMEM;
+	}
+	w->nthr = n;
+	return MESH_OK;
+}
+
+int energy_ws_nthreads(const energy_ws *w, int nv)
+{
+	return nv >= w->par_nv ? w->nthr : 1;
 }
 
 double mesh_energy(const mesh *m, const double *r, const model *p,
@@ -363,13 +439,12 @@ pass_lengths(const mesh *m, const v2d *r2, energy_ws *w, int j0, int j1, const i
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 static inline __attribute__((always_inline)) void
-pass_lengths4(const mesh *m, const v2d *r2, energy_ws *w, const int form)
+pass_lengths4(const mesh *m, const v2d *r2, energy_ws *w, int j0, int j1, const int form)
 {
 	double *restrict len = w->len;
 	v2d *restrict vec = (v2d *)w->vec;
-	const int nj = m->nj;
-	int j = 0;
-	for (; j + 3 < nj; j += 4) {
+	int j = j0;
+	for (; j + 3 < j1; j += 4) {
 		v2d d0 = jvec(m, r2, j, form), d1 = jvec(m, r2, j + 1, form);
 		v2d d2 = jvec(m, r2, j + 2, form), d3 = jvec(m, r2, j + 3, form);
 		vec[j] = d0;
@@ -385,7 +460,7 @@ pass_lengths4(const mesh *m, const v2d *r2, energy_ws *w, const int form)
 		*(v4d *)(len + j) = __builtin_ia32_sqrtpd256((v4d){ q01[0], q01[1], q23[0], q23[1] });
 #endif
 	}
-	pass_lengths(m, r2, w, j, nj, form);
+	pass_lengths(m, r2, w, j, j1, form);
 }
 #pragma GCC diagnostic pop
 #endif
@@ -435,10 +510,9 @@ pass_cells(const mesh *m, const v2d *r2, const model *p, energy_ws *w, int k0, i
  * longer, and was 1-4 % slower (bench/RESULTS.md): the chains of
  * additions, not the instructions, set this pass's time. */
 static inline __attribute__((always_inline)) double
-pass_cells_cache(const mesh *m, const v2d *r2, const model *p, energy_ws *w, double W,
-                 const int form)
+pass_cells_cache(const mesh *m, const v2d *r2, const model *p, energy_ws *w, int k0, int k1,
+                 double W, const int form)
 {
-	const int nc = m->nc;
 	const int *restrict coff = m->coff;
 	const char *restrict cjb = (const char *)m->cj;
 	const char *restrict cob = form == 0 ? (const char *)m->kco : (const char *)m->cv;
@@ -446,12 +520,12 @@ pass_cells_cache(const mesh *m, const v2d *r2, const model *p, energy_ws *w, dou
 	const double *restrict len = w->len;
 	double *restrict cc = w->cc;
 	const double ka = p->ka, p0 = p->p0;
-	size_t os = 4 * (size_t)coff[0];
+	size_t os = 4 * (size_t)coff[k0];
 #define CORNER_OFF(o) (form == 0 ? (size_t)*(const unsigned *)(cob + (o)) : \
                        16 * (size_t)*(const int *)(cob + (o)))
 #define CORNER_LEN(o) len[*(const int *)(cjb + (o))]
 #define CORNER(o) (at(r2, CORNER_OFF(o)) + *(const v2d *)(cimgb + 4 * (o)) - x0)
-	for (int k = 0; k < nc; k++) {
+	for (int k = k0; k < k1; k++) {
 		size_t oe = 4 * (size_t)coff[k + 1], o = os + 4;
 		v2d x0 = at(r2, CORNER_OFF(os)), acc = { 0, 0 }, prev = { 0, 0 };
 		double per = CORNER_LEN(os);
@@ -477,6 +551,29 @@ pass_cells_cache(const mesh *m, const v2d *r2, const model *p, energy_ws *w, dou
 	return W;
 }
 
+/* Where a thread's pass 3 puts a term it may not add in place (threads
+ * only; energy_par): the terms of a vertex whose sum began in an earlier
+ * thread's junctions, kept in junction order and added after the others
+ * by one thread, in the order of the threads' ranges, so that every sum
+ * is the serial one, bit for bit. */
+typedef struct {
+	const int *fj;  /* per vertex its first junction */
+	int j0;         /* the thread's first junction */
+	int n, cap;
+	int *dv;        /* 2 v + (the vertex's last junction) */
+	v2d *dt;
+} defer;
+
+static inline __attribute__((always_inline)) void
+defer_push(defer *d, int v, int last, v2d t)
+{
+	if (d->n < d->cap) {
+		d->dv[d->n] = 2 * v + last;
+		d->dt[d->n] = t;
+	}
+	d->n++;
+}
+
 /* Pass 3 of a tissue in memory, junctions j0 <= j < j1, with the codes: a
  * vertex's sum starts at its first junction (0 + term, the same number
  * as adding to a zeroed array) and is complete at its last, where its
@@ -484,10 +581,12 @@ pass_cells_cache(const mesh *m, const v2d *r2, const model *p, energy_ws *w, dou
  * and none to find the largest force, 48 bytes per vertex less from
  * memory, for about 10 instructions more per junction, which in cache
  * cost more than they save.  Masks instead of branches, as first and last
- * follow no pattern the branch predictor learns. */
+ * follow no pattern the branch predictor learns.  par: d holds the
+ * thread's deferred terms. */
 static inline __attribute__((always_inline)) void
 pass_grad_codes(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2d *g2,
-                int j0, int j1, double *g2max, double *q2p, const int tens)
+                int j0, int j1, double *g2max, double *q2p, const int tens, defer *d,
+                const int par)
 {
 	const int *restrict jc = m->jc;
 	const unsigned *restrict kjv = m->kjv;
@@ -497,64 +596,48 @@ pass_grad_codes(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2
 	for (int j = j0; j < j1; j++) {
 		int L = jc[2 * j], R = jc[2 * j + 1];
 		int a = (int)(kjv[2 * j] & MESH_KMASK), b = (int)(kjv[2 * j + 1] & MESH_KMASK);
-		v2d d = jvec(m, r2, j, 2);
+		v2d dv = jvec(m, r2, j, 2);
 		long long fl = kjv[2 * j + 1] >> MESH_KSHIFT;
 		double t = (pw[L] + pw[R] + (tens ? dg[j] : 0.0)) / len[j];
 		double x = aw[L] - aw[R];
-		v2d perp = (v2d){ x, x } * (v2d){ 0.5, -0.5 } * swap1(d), tan = t * d;
-		v2i keep_a = (v2i){ 0, 0 } - ((fl & MESH_KFIRST_A) == 0);
-		v2d ga = (v2d)((v2i)g2[a] & keep_a) + (perp - tan);
-		g2[a] = ga;
-		v2i keep_b = (v2i){ 0, 0 } - ((fl & MESH_KFIRST_B) == 0);
-		v2d gb = (v2d)((v2i)g2[b] & keep_b) + (perp + tan);
-		g2[b] = gb;
-		if (g2max) {
-			v2d qa = ga * ga, qb = gb * gb;
-			double sa = fl & MESH_KLAST_A ? qa[0] + qa[1] : 0.0;
-			double sb = fl & MESH_KLAST_B ? qb[0] + qb[1] : 0.0;
-			q2 = sa > q2 ? sa : q2;
-			q2 = sb > q2 ? sb : q2;
+		v2d perp = (v2d){ x, x } * (v2d){ 0.5, -0.5 } * swap1(dv), tan = t * dv;
+		if (par && d->fj[a] < d->j0) {
+			defer_push(d, a, (fl & MESH_KLAST_A) != 0, perp - tan);
+		} else {
+			v2i keep_a = (v2i){ 0, 0 } - ((fl & MESH_KFIRST_A) == 0);
+			v2d ga = (v2d)((v2i)g2[a] & keep_a) + (perp - tan);
+			g2[a] = ga;
+			if (g2max) {
+				v2d qa = ga * ga;
+				double sa = fl & MESH_KLAST_A ? qa[0] + qa[1] : 0.0;
+				q2 = sa > q2 ? sa : q2;
+			}
+		}
+		if (par && d->fj[b] < d->j0) {
+			defer_push(d, b, (fl & MESH_KLAST_B) != 0, perp + tan);
+		} else {
+			v2i keep_b = (v2i){ 0, 0 } - ((fl & MESH_KFIRST_B) == 0);
+			v2d gb = (v2d)((v2i)g2[b] & keep_b) + (perp + tan);
+			g2[b] = gb;
+			if (g2max) {
+				v2d qb = gb * gb;
+				double sb = fl & MESH_KLAST_B ? qb[0] + qb[1] : 0.0;
+				q2 = sb > q2 ? sb : q2;
+			}
 		}
 	}
 	*q2p = q2;
 }
 
-/* form 0, a tissue in cache, where instructions count: the double
- * arrays, the vertices by their byte offsets kjo, the junction vectors
- * kept for the gradient pass; 3 the same by jv when kok = 0.  2, a tissue
- * in memory, where bytes count: the codes, lengths only and the fused
- * gradient pass.  1: a tissue in memory without the codes (kok = 0),
- * lengths only.  tens: dg is not NULL (a constant, so that no junction
- * tests it). */
-static inline __attribute__((always_inline)) double
-energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
-              double *grad, double *g2max, energy_ws *w, const int form, const int tens,
-              const int simd)
+/* Pass 3 of forms 0, 1 and 3 (below), junctions j0 <= j < j1, into a
+ * gradient the caller zeroed.  par (form 0 only): d holds the thread's
+ * deferred terms. */
+static inline __attribute__((always_inline)) void
+pass_grad(const mesh *m, const v2d *r2, const double *dg, energy_ws *w, v2d *g2,
+          int j0, int j1, const int form, const int tens, defer *d, const int par)
 {
-	const int nj = m->nj;
-	const v2d *r2 = (const v2d *)r;
-#ifdef ENERGY_HAVE_AVX2
-	if (simd && (form == 0 || form == 3))
-		pass_lengths4(m, r2, w, form);
-	else
-#endif
-		pass_lengths(m, r2, w, 0, nj, form);
-	double W = form == 0 || form == 3 ? pass_cells_cache(m, r2, p, w, 0.0, form) :
-	           pass_cells(m, r2, p, w, 0, m->nc, 0.0, form);
-	if (grad == NULL)
-		return W;
-	v2d *g2 = (v2d *)grad;
-	if (form == 2) {
-		double q2 = 0;
-		pass_grad_codes(m, r2, dg, w, g2, 0, nj, g2max, &q2, tens);
-		if (g2max)
-			*g2max = q2;
-		return W;
-	}
 	const double *restrict aw = w->cc, *restrict pw = w->cc + m->nc;
 	const v2d *restrict cc2 = (const v2d *)w->cc;  /* forms 0, 3 */
-	for (int v = 0; v < m->nv; v++)
-		g2[v] = (v2d){ 0, 0 };
 	/* One induction variable, o = 8 j, the byte offset of junction j's
 	 * pair in jc, kjc, kjo and jv and of its length (2 o that of its vector):
 	 * x86 scales an index by 8 at most, so j itself would need a shift
@@ -575,8 +658,8 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 #ifdef __GNUC__
 	__asm__("" : "+r"(gl));
 #endif
-	const size_t oend = 8 * (size_t)nj;
-	for (size_t o = 0; o < oend; o += 8) {
+	const size_t oend = 8 * (size_t)j1;
+	for (size_t o = 8 * (size_t)j0; o < oend; o += 8) {
 		int L = 0, R = 0;
 		size_t oL, oR;
 		if (form == 0) {
@@ -596,11 +679,11 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			oa = 16 * (size_t)*(const int *)(job + o);
 			ob = 16 * (size_t)*(const int *)(job + o + 4);
 		}
-		v2d d = form == 1 ? jvec(m, r2, (int)(o / 8), 1) : *(const v2d *)(vecb + 2 * o);
+		v2d dv = form == 1 ? jvec(m, r2, (int)(o / 8), 1) : *(const v2d *)(vecb + 2 * o);
 #ifdef __GNUC__
 		/* in a register: GCC would read it twice from memory, and the
 		 * loads, not the instructions, are what this loop waits on */
-		__asm__("" : "+x"(d));
+		__asm__("" : "+x"(dv));
 #endif
 		double s, l = *(const double *)(lenb + o);
 		v2d xx, tt;
@@ -622,12 +705,231 @@ energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
 			xx = (v2d){ c[0], c[0] };
 			tt = (v2d){ s, s } / (v2d){ l, l };
 		}
-		v2d perp = xx * (v2d){ 0.5, -0.5 } * swap1(d), tan = tt * d;
-		*(v2d *)(gs + oa) = *(const v2d *)(gl + oa) + (perp - tan);
-		*(v2d *)(gs + ob) = *(const v2d *)(gl + ob) + (perp + tan);
+		v2d perp = xx * (v2d){ 0.5, -0.5 } * swap1(dv), tan = tt * dv;
+		if (par && d->fj[oa / 16] < d->j0)
+			defer_push(d, (int)(oa / 16), 0, perp - tan);
+		else
+			*(v2d *)(gs + oa) = *(const v2d *)(gl + oa) + (perp - tan);
+		if (par && d->fj[ob / 16] < d->j0)
+			defer_push(d, (int)(ob / 16), 0, perp + tan);
+		else
+			*(v2d *)(gs + ob) = *(const v2d *)(gl + ob) + (perp + tan);
 	}
+}
+
+/* Pass 2 over cells k0 <= k < k1 in blocks of KERNEL_WBLOCK (k0 at a
+ * block's start): each block's W into wblk if not NULL, and their sum in
+ * block order returned. */
+static inline __attribute__((always_inline)) double
+pass_cells_blocks(const mesh *m, const v2d *r2, const model *p, energy_ws *w, int k0, int k1,
+                  double *wblk, const int form)
+{
+	double W = 0;
+	for (int k = k0; k < k1; k += KERNEL_WBLOCK) {
+		int ke = k1 - k > KERNEL_WBLOCK ? k + KERNEL_WBLOCK : k1;
+		double Wb = form == 0 || form == 3 ? pass_cells_cache(m, r2, p, w, k, ke, 0.0, form) :
+		            pass_cells(m, r2, p, w, k, ke, 0.0, form);
+		if (wblk)
+			wblk[k / KERNEL_WBLOCK] = Wb;
+		W += Wb;
+	}
+	return W;
+}
+
+/* form 0, a tissue in cache, where instructions count: the double
+ * arrays, the vertices by their byte offsets kjo, the junction vectors
+ * kept for the gradient pass; 3 the same by jv when kok = 0.  2, a tissue
+ * in memory, where bytes count: the codes, lengths only and the fused
+ * gradient pass.  1: a tissue in memory without the codes (kok = 0),
+ * lengths only.  tens: dg is not NULL (a constant, so that no junction
+ * tests it). */
+static inline __attribute__((always_inline)) double
+energy_kernel(const mesh *m, const double *r, const model *p, const double *dg,
+              double *grad, double *g2max, energy_ws *w, const int form, const int tens,
+              const int simd)
+{
+	const int nj = m->nj;
+	const v2d *r2 = (const v2d *)r;
+#ifdef ENERGY_HAVE_AVX2
+	if (simd && (form == 0 || form == 3))
+		pass_lengths4(m, r2, w, 0, nj, form);
+	else
+#endif
+		pass_lengths(m, r2, w, 0, nj, form);
+	double W = pass_cells_blocks(m, r2, p, w, 0, m->nc, NULL, form);
+	if (grad == NULL)
+		return W;
+	v2d *g2 = (v2d *)grad;
+	if (form == 2) {
+		double q2 = 0;
+		pass_grad_codes(m, r2, dg, w, g2, 0, nj, g2max, &q2, tens, NULL, 0);
+		if (g2max)
+			*g2max = q2;
+		return W;
+	}
+	for (int v = 0; v < m->nv; v++)
+		g2[v] = (v2d){ 0, 0 };
+	pass_grad(m, r2, dg, w, g2, 0, nj, form, tens, NULL, 0);
 	if (g2max)
 		*g2max = simd ? gmax4(m->nv, g2) : gmax2(m->nv, g2);
+	return W;
+}
+
+/* The kernel on threads (forms 0 and 2, which have the codes' first and
+ * last flags): each thread takes a range of junctions for passes 1 and
+ * 3 and a range of the cell blocks for pass 2.  Pass 1 also notes each
+ * vertex's first junction; in pass 3 a thread adds in place the terms of
+ * the vertices whose first junction lies in its range (their sums run in
+ * junction order, as serially), and defers the others, which one thread
+ * then adds in the threads' order: every sum the serial kernel's, bit
+ * for bit, at any thread count, and W summed in the fixed blocks of
+ * pass_cells_blocks. */
+typedef struct {
+	const mesh *m;
+	const double *r;
+	const model *p;
+	const double *dg;
+	double *grad;
+	int g2max;      /* the largest force is wanted */
+	energy_ws *w;
+	int nt;         /* threads that ran */
+} par_ctx;
+
+static inline long long part(long long n, int t, int nt)
+{
+	return n * t / nt;
+}
+
+static inline __attribute__((always_inline)) void
+par_body(par_ctx *c, int t, int nt, const int form, const int tens, const int simd)
+{
+	const mesh *m = c->m;
+	energy_ws *w = c->w;
+	const v2d *r2 = (const v2d *)c->r;
+	v2d *g2 = (v2d *)c->grad;
+	const int nj = m->nj, nv = m->nv;
+	int j0 = (int)part(nj, t, nt), j1 = (int)part(nj, t + 1, nt);
+	int v0 = (int)part(nv, t, nt), v1 = (int)part(nv, t + 1, nt);
+	if (t == 0)
+		c->nt = nt;
+#ifdef ENERGY_HAVE_AVX2
+	if (simd && form == 0)
+		pass_lengths4(m, r2, w, j0, j1, form);
+	else
+#endif
+		pass_lengths(m, r2, w, j0, j1, form);
+	if (g2) {
+		const unsigned *restrict kjv = m->kjv;
+		int *restrict fj = w->fj;
+		for (int j = j0; j < j1; j++) {
+			unsigned fl = kjv[2 * j + 1] >> MESH_KSHIFT;
+			if (fl & MESH_KFIRST_A)
+				fj[kjv[2 * j] & MESH_KMASK] = j;
+			if (fl & MESH_KFIRST_B)
+				fj[kjv[2 * j + 1] & MESH_KMASK] = j;
+		}
+		if (form == 0)
+			for (int v = v0; v < v1; v++)
+				g2[v] = (v2d){ 0, 0 };
+	}
+#pragma omp barrier
+	int nb = (m->nc + KERNEL_WBLOCK - 1) / KERNEL_WBLOCK;
+	int b0 = (int)part(nb, t, nt), b1 = (int)part(nb, t + 1, nt);
+	int k1 = b1 * KERNEL_WBLOCK < m->nc ? b1 * KERNEL_WBLOCK : m->nc;
+	if (b0 < b1)
+		pass_cells_blocks(m, r2, c->p, w, b0 * KERNEL_WBLOCK, k1, w->wblk, form);
+	if (g2 == NULL)
+		return;
+#pragma omp barrier
+	defer d = { .fj = w->fj, .j0 = j0, .n = 0, .cap = w->dcap,
+		    .dv = w->dv + (size_t)t * w->dcap, .dt = (v2d *)w->dt + (size_t)t * w->dcap };
+	double q2 = 0;
+	if (form == 2)
+		pass_grad_codes(m, r2, c->dg, w, g2, j0, j1, c->g2max ? &q2 : NULL, &q2, tens, &d, 1);
+	else
+		pass_grad(m, r2, c->dg, w, g2, j0, j1, form, tens, &d, 1);
+	w->dn[t] = d.n;
+	w->q2[t] = q2;
+#pragma omp barrier
+	if (t == 0) {
+		int ovf = 0;
+		for (int u = 0; u < nt; u++)
+			ovf |= w->dn[u] > w->dcap;
+		w->ovf = ovf;
+		if (ovf) {
+			/* out of room: the serial pass */
+			for (int u = 0; u < nt; u++)
+				w->q2[u] = 0;
+			if (form == 2) {
+				pass_grad_codes(m, r2, c->dg, w, g2, 0, nj, c->g2max ? &q2 : NULL,
+				                w->q2, tens, NULL, 0);
+			} else {
+				for (int v = 0; v < nv; v++)
+					g2[v] = (v2d){ 0, 0 };
+				pass_grad(m, r2, c->dg, w, g2, 0, nj, form, tens, NULL, 0);
+			}
+		} else {
+			double q = w->q2[0];
+			for (int u = 0; u < nt; u++) {
+				const int *dv = w->dv + (size_t)u * w->dcap;
+				const v2d *dt = (const v2d *)w->dt + (size_t)u * w->dcap;
+				for (int i = 0; i < w->dn[u]; i++) {
+					int v = dv[i] >> 1;
+					v2d s = g2[v] + dt[i];
+					g2[v] = s;
+					if (dv[i] & 1) {
+						v2d qq = s * s;
+						q = qq[0] + qq[1] > q ? qq[0] + qq[1] : q;
+					}
+				}
+			}
+			w->q2[0] = q;
+		}
+	}
+	if (form == 2 || !c->g2max)
+		return;
+#pragma omp barrier
+	w->q2[t] = simd ? gmax4(v1 - v0, g2 + v0) : gmax2(v1 - v0, g2 + v0);
+}
+
+typedef void par_fn(par_ctx *c, int t, int nt);
+
+#define PAR_BODY(NAME, FORM, TENS, SIMD, ATTR) \
+	ATTR static void NAME(par_ctx *c, int t, int nt) { par_body(c, t, nt, FORM, TENS, SIMD); }
+PAR_BODY(par_00, 0, 0, 0, )
+PAR_BODY(par_01, 0, 1, 0, )
+PAR_BODY(par_20, 2, 0, 0, )
+PAR_BODY(par_21, 2, 1, 0, )
+#ifdef ENERGY_HAVE_AVX2
+PAR_BODY(par_00_avx2, 0, 0, 1, __attribute__((target("avx2"))))
+PAR_BODY(par_01_avx2, 0, 1, 1, __attribute__((target("avx2"))))
+PAR_BODY(par_20_avx2, 2, 0, 1, __attribute__((target("avx2"))))
+PAR_BODY(par_21_avx2, 2, 1, 1, __attribute__((target("avx2"))))
+#endif
+#undef PAR_BODY
+
+static double energy_par(const mesh *m, const double *r, const model *p, const double *dg,
+                         double *grad, double *g2max, energy_ws *w, par_fn *fn)
+{
+	par_ctx c = { .m = m, .r = r, .p = p, .dg = dg, .grad = grad, .g2max = g2max != NULL,
+		      .w = w, .nt = 1 };
+#pragma omp parallel num_threads(w->nthr)
+	{
+#ifdef _OPENMP
+		fn(&c, omp_get_thread_num(), omp_get_num_threads());
+#else
+		fn(&c, 0, 1);
+#endif
+	}
+	double W = 0;
+	for (int b = 0; b < (m->nc + KERNEL_WBLOCK - 1) / KERNEL_WBLOCK; b++)
+		W += w->wblk[b];
+	if (g2max) {
+		double q = 0;
+		for (int t = 0; t < c.nt; t++)
+			q = w->q2[t] > q ? w->q2[t] : q;
+		*g2max = q;
+	}
 	return W;
 }
 
@@ -638,6 +940,16 @@ energy_select(const mesh *m, const double *r, const model *p, const double *dg,
               double *grad, double *g2max, energy_ws *w, const int simd)
 {
 	int form = w->vec ? (m->kok ? 0 : 3) : m->kok ? 2 : 1;
+	if (w->nthr > 1 && m->nv >= w->par_nv && (form == 0 || form == 2)) {
+		par_fn *fn;
+#ifdef ENERGY_HAVE_AVX2
+		if (simd)
+			fn = form == 0 ? (dg ? par_01_avx2 : par_00_avx2) : (dg ? par_21_avx2 : par_20_avx2);
+		else
+#endif
+			fn = form == 0 ? (dg ? par_01 : par_00) : (dg ? par_21 : par_20);
+		return energy_par(m, r, p, dg, grad, g2max, w, fn);
+	}
 	if (dg == NULL)
 		return form == 0 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 0, 0, simd) :
 		       form == 2 ? energy_kernel(m, r, p, NULL, grad, g2max, w, 2, 0, simd) :
@@ -648,7 +960,6 @@ energy_select(const mesh *m, const double *r, const model *p, const double *dg,
 	       form == 3 ? energy_kernel(m, r, p, dg, grad, g2max, w, 3, 1, simd) :
 	                   energy_kernel(m, r, p, dg, grad, g2max, w, 1, 1, simd);
 }
-
 static double energy_portable(const mesh *m, const double *r, const model *p,
                               const double *dg, double *grad, double *g2max, energy_ws *w)
 {
@@ -703,7 +1014,7 @@ __attribute__((target("avx2"))) static void move_avx2(int nv, double *r, const d
 }
 #endif
 
-void mesh_euler_move(const energy_ws *w, int nv, double *r, const double *f, double dt)
+static void move_one(const energy_ws *w, int nv, double *r, const double *f, double dt)
 {
 #ifdef ENERGY_HAVE_AVX2
 	if (w->simd) {
@@ -714,6 +1025,24 @@ void mesh_euler_move(const energy_ws *w, int nv, double *r, const double *f, dou
 	(void)w;
 #endif
 	move_portable(nv, r, f, dt);
+}
+
+/* On threads each takes a range of vertices: element by element the
+ * same numbers. */
+void mesh_euler_move(const energy_ws *w, int nv, double *r, const double *f, double dt)
+{
+	if (w->nthr > 1 && nv >= w->par_nv) {
+#pragma omp parallel num_threads(w->nthr)
+		{
+#ifdef _OPENMP
+			int t = omp_get_thread_num(), nt = omp_get_num_threads();
+			int v0 = (int)part(nv, t, nt), v1 = (int)part(nv, t + 1, nt);
+			move_one(w, v1 - v0, r + 2 * (size_t)v0, f + 2 * (size_t)v0, dt);
+#endif
+		}
+		return;
+	}
+	move_one(w, nv, r, f, dt);
 }
 
 int energy_ws_simd(energy_ws *w, int level)

@@ -53,6 +53,22 @@ void energy_ws_free(energy_ws *w);
  * level taken. */
 int energy_ws_simd(energy_ws *w, int level);
 
+/* Threads for the kernel and the Euler move (OpenMP; 1, the default of
+ * energy_ws_alloc: none): n of them on a tissue of at least min_nv
+ * vertices (<= 0: ENERGY_PAR_NV), the calling thread among them.  The
+ * numbers are the serial kernel's, bit for bit, at any n: every vertex's
+ * force is summed in junction order, and W in fixed blocks of cells
+ * (1024, whatever n is).  A library built without OpenMP takes n = 1.
+ * MESH_EDOM (n outside 1..ENERGY_MAXTHREADS), MESH_ENOMEM (w then has
+ * none). */
+int energy_ws_threads(energy_ws *w, int n, int min_nv);
+/* The threads w uses on a tissue of nv vertices. */
+int energy_ws_nthreads(const energy_ws *w, int nv);
+#define ENERGY_MAXTHREADS 1024
+/* Below this many vertices a step costs a few microseconds, and starting
+ * threads costs more than they save (bench/RESULTS.md, "Every core"). */
+#define ENERGY_PAR_NV 16384
+
 /* W at r, and its gradient dW/dr into grad (2*nv) unless grad is NULL.
  * No allocation; w must come from energy_ws_alloc for this mesh. */
 double mesh_energy(const mesh *m, const double *r, const model *p,

@@ -14,8 +14,12 @@
 #
 #   parallel.sh /shared/sweep --sshlogin 8/node1,8/node2 --env PATH
 #
-# The rows go to DIR/results/N.tsv; sweep-reduce DIR joins them.
+# The rows go to DIR/results/N.tsv; sweep-reduce DIR joins them.  Each
+# job computes on one core (the programs' --threads default is
+# OMP_NUM_THREADS), unless OMP_NUM_THREADS is set: the jobs are the
+# parallelism.
 set -eu
+export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
 [ $# -ge 1 ] || { echo "usage: parallel.sh DIR [PARALLEL OPTIONS...]" >&2; exit 2; }
 dir=$1
 shift
