@@ -87,10 +87,10 @@ ok "network: nt1_again ($a) counts some of the T1s that re-T1 a junction ($r)" s
 ok "network: T1s happen and each is an event row" sh -c "n=\$(grep -v '^#' '$T/ev.tsv' | tail -n +2 | wc -l); t=\$(tail -1 '$T/net.tsv' | cut -f4); [ \"\$n\" -gt 0 ] && [ \"\$n\" -eq \"\$t\" ]"
 # --watch: a junction's length and tension in the network trace; the
 # first T1'd junction is at most t1_new long right after its T1 (a run
-# to just after it; --trace-every below the step: a row at every step)
+# to just after it; the last row is the end state)
 tj=$(grep -v '^#' "$T/ev.tsv" | awk 'NR == 2 { print $1 + 1e-5 }')
 jj=$(grep -v '^#' "$T/ev.tsv" | awk 'NR == 2 { print $2 }')
-tis-active --network --rate 0.5 --gamma0 0.5 --time "$tj" --watch "$jj,0" --trace-every 1e-9 \
+tis-active --network --rate 0.5 --gamma0 0.5 --time "$tj" --watch "$jj,0" --trace-every 0.01 \
 	--trace "$T/w.tsv" "$H" >/dev/null
 ok "--watch: columns l_K, dg_K for each junction" sh -c "grep -v '^#' '$T/w.tsv' | head -1 | grep -q '	l_${jj}	dg_${jj}	l_0	dg_0\$'"
 ok "--watch: the T1'd junction is the new one at the end (l < t1_new, dg near 0)" sh -c \
