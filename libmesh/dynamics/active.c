@@ -586,44 +586,50 @@ static int canonical(act *a, mesh_error *err)
 	return st;
 }
 
-/* The Euler run goes in segments that end at multiples of ACT_CHECKPOINT
- * (the last step of each shortened to land there).  A stop request is
- * honoured at the next one, and with T1s on each begins with the junction
- * numbers of a freshly read mesh and a fresh integrator: what a run
- * continued from the mesh written there does, so that it goes on bit for
- * bit as the uninterrupted run. */
-static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
-                     mesh_error *err)
+/* One Euler segment to tseg: a->why says how it ended. */
+static int euler_segment(act *a, double tseg, mesh_error *err)
+{
+	mesh_error e2;
+	int st = dyn_run(a->d, tseg, NULL, euler_obs, a, &e2);
+	if (st == MESH_ENOMEM)
+		return mesh_error_set(err, 0, st, "out of memory");
+	if (st != MESH_OK) {
+		/* non-finite forces (the state before the step is finite in r,
+		 * but its tensions may not be) or a passive junction collapsed */
+		if (state_finite(a) && strstr(e2.msg, "collapsed")) {
+			a->why = ACT_END_COLLAPSE;
+		} else {
+			restore(a);
+			a->why = ACT_END_NONFINITE;
+			mesh_error_set(err, 0, MESH_EDOM, "%s", e2.msg);
+		}
+	}
+	return MESH_OK;
+}
+
+static int rk_segment(act *a, double tseg, mesh_error *err)
+{
+	return rk_run(a, tseg, &a->why, err);
+}
+
+/* The Euler and Runge-Kutta runs go in segments that end at multiples of
+ * ACT_CHECKPOINT (the last step of each shortened to land there).  A stop
+ * request is honoured at the next one, and with T1s on each begins with
+ * the junction numbers of a freshly read mesh and a fresh integrator
+ * (Euler's made again, the Runge-Kutta one started afresh from the mesh):
+ * what a run continued from the mesh written there does, so that it goes
+ * on bit for bit as the uninterrupted run. */
+static int segments(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
+                    mesh_error *err, int (*one)(act *, double, mesh_error *))
 {
 	mesh *m = a->m;
 	a->why = ACT_END_TIME;
-	if (!a->have_prev) {
-		mesh_keep_wrapped(m);
-		snapshot(a);
-		for (int k = 0; k < a->na; k++)
-			junction_vec_sqrt(m, m->r, a->aj[k], a->jprev + 2 * k);
-		a->have_prev = 1;
-	}
 	while (a->t < t_end) {
 		double seg = (floor(a->t / ACT_CHECKPOINT) + 1) * ACT_CHECKPOINT;
 		long nt1 = a->c.nt1;
-		mesh_error e2;
-		int st = dyn_run(a->d, seg < t_end ? seg : t_end, NULL, euler_obs, a, &e2);
-		if (st == MESH_ENOMEM)
-			return mesh_error_set(err, 0, st, "out of memory");
-		if (st != MESH_OK) {
-			/* non-finite forces (the state before the step is finite
-			 * in r, but its tensions may not be) or a passive
-			 * junction collapsed */
-			if (state_finite(a) && strstr(e2.msg, "collapsed")) {
-				a->why = ACT_END_COLLAPSE;
-			} else {
-				restore(a);
-				a->why = ACT_END_NONFINITE;
-				mesh_error_set(err, 0, MESH_EDOM, "%s", e2.msg);
-			}
-			break;
-		}
+		int st = one(a, seg < t_end ? seg : t_end, err);
+		if (st != MESH_OK)
+			return st;
 		if (a->why != ACT_END_TIME)
 			break;
 		mesh_keep_wrapped(m);
@@ -640,34 +646,18 @@ static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end 
 	return MESH_OK;
 }
 
-/* The Runge-Kutta run in segments as the Euler one: at each checkpoint
- * the mesh is wrapped, renumbered after T1s, and the integrator starts
- * afresh from it, as a run continued from the mesh written there does. */
-static int rk_segments(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
-                       mesh_error *err)
+static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
+                     mesh_error *err)
 {
-	a->why = ACT_END_TIME;
-	mesh_keep_wrapped(a->m);
-	while (a->t < t_end) {
-		double seg = (floor(a->t / ACT_CHECKPOINT) + 1) * ACT_CHECKPOINT;
-		long nt1 = a->c.nt1;
-		int st = rk_run(a, seg < t_end ? seg : t_end, &a->why, err);
-		if (st != MESH_OK)
-			return st;
-		if (a->why != ACT_END_TIME)
-			break;
-		mesh_keep_wrapped(a->m);
-		if (a->c.nt1 != nt1 && (st = canonical(a, err)) != MESH_OK)
-			return st;
-		if (a->why != ACT_END_TIME)
-			break;
-		if (stop && *stop && a->t < t_end) {
-			a->why = ACT_END_STOP;
-			break;
-		}
+	mesh *m = a->m;
+	if (!a->have_prev) {
+		mesh_keep_wrapped(m);
+		snapshot(a);
+		for (int k = 0; k < a->na; k++)
+			junction_vec_sqrt(m, m->r, a->aj[k], a->jprev + 2 * k);
+		a->have_prev = 1;
 	}
-	*why = a->why;
-	return MESH_OK;
+	return segments(a, t_end, stop, why, err, euler_segment);
 }
 
 int act_run(act *a, double t_end, volatile sig_atomic_t *stop, act_observer obs,
@@ -678,8 +668,10 @@ int act_run(act *a, double t_end, volatile sig_atomic_t *stop, act_observer obs,
 	err->msg[0] = '\0';
 	if (a->d)
 		return euler_run(a, t_end, stop, why, err);
-	if (a->k)
-		return rk_segments(a, t_end, stop, why, err);
+	if (a->k) {
+		mesh_keep_wrapped(a->m);
+		return segments(a, t_end, stop, why, err, rk_segment);
+	}
 	return bdf_run(a, t_end, stop, why, err);
 }
 

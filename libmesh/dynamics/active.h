@@ -42,7 +42,8 @@
  * the run ends when an active junction reaches l_collapse (ACT_COLLAPSE);
  * with T1s on (t1_length > 0) a junction reaching t1_length is T1'd.  Euler
  * locates them to its step (the step at which the length is first below
- * the threshold), BDF to the root of its interpolant.
+ * the threshold), BDF to the root of its interpolant, DP5 and BS3 on
+ * their dense output (events.h, rk.c).
  *
  * The time lives in the integrator (act_time); a run may start at any t0,
  * so that a run stopped and continued (the mesh's state lines, tis-mesh(5))
@@ -209,9 +210,9 @@ int act_row_at(act *a, double t, int j, act_row *row);
  * T1'd junction a-b is the new one (a-b turned by 90 degrees, topology.h,
  * so its length jumps from below t1_length to t1_new and its tension to
  * 0), and a junction next to it keeps its number while one of its
- * vertices changes; where the Euler schemes renumber the junctions (at
- * checkpoints after T1s) the watched ones are followed by their vertex
- * pairs.  MESH_EDOM (a number out of range), MESH_ENOMEM. */
+ * vertices changes; where the Euler and Runge-Kutta schemes renumber the
+ * junctions (at checkpoints after T1s) the watched ones are followed by
+ * their vertex pairs.  MESH_EDOM (a number out of range), MESH_ENOMEM. */
 int act_watch(act *a, const int *j, int n);
 
 /* The noise generator's state (ou_state_get), "" when no noise has been
@@ -221,7 +222,7 @@ int act_rng_get(const act *a, char *buf, size_t n);
 int act_rng_set(act *a, const char *text);
 
 /* The junctions made by a T1 that are on the lowered threshold (t1_again;
- * Euler schemes): their vertex pairs as text "a b a b ..." (malloc'd,
+ * Euler and Runge-Kutta schemes): their vertex pairs as text "a b a b ..." (malloc'd,
  * "" for none), and back (MESH_EINVAL for a pair that is no junction).  A
  * stopped run keeps them in its state line active_fresh.  MESH_ENOMEM. */
 int act_fresh_get(const act *a, char **text);
