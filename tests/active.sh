@@ -114,10 +114,10 @@ ok "bdf --t1-again 0.5: the re-T1s at 0.0005" \
 
 # --watch: a junction's length and tension in the network trace; the
 # first T1'd junction is at most t1_new long right after its T1 (a run
-# to just after it; --trace-every below the step: a row at every step)
+# to just after it; the last row is the end state)
 tj=$(grep -v '^#' "$T/ev.tsv" | awk 'NR == 2 { print $1 + 1e-5 }')
 jj=$(grep -v '^#' "$T/ev.tsv" | awk 'NR == 2 { print $2 }')
-tis-active --network --rate 0.5 --gamma0 0.5 --time "$tj" --watch "$jj,0" --trace-every 1e-9 \
+tis-active --network --rate 0.5 --gamma0 0.5 --time "$tj" --watch "$jj,0" --trace-every 0.01 \
 	--trace "$T/w.tsv" "$H" >/dev/null
 ok "--watch: columns l_K, dg_K for each junction" sh -c "grep -v '^#' '$T/w.tsv' | head -1 | grep -q '	l_${jj}	dg_${jj}	l_0	dg_0\$'"
 ok "--watch: the T1'd junction is the new one at the end (l < t1_new, dg near 0)" sh -c \

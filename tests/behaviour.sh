@@ -75,7 +75,7 @@ fails_with 2 "an unknown option" tis-behaviour --bogus "$T/cyc.tsv"
 tis-hex 6 6 --p0 3.65 >"$T/h6.mesh"
 tis-hex 6 6 --p0 3.7224194364083982 >"$T/p6.mesh"
 tis-active --network --rate 1 --gamma0 0.01 --time 40 --trace "$T/n1.tsv" "$T/h6.mesh" >/dev/null
-tis-active --network --rate 0.1 --gamma0 3 --time 10 --trace-every 0.1 --trace "$T/n2.tsv" "$T/h6.mesh" >/dev/null
+tis-active --network --rate 0.1 --gamma0 3 --time 1.5 --trace-every 0.05 --trace "$T/n2.tsv" "$T/h6.mesh" >/dev/null
 tis-active --network --rate 0.23 --gamma0 0.09 --time 400 --trace "$T/n3.tsv" "$T/p6.mesh" >/dev/null
 ok "--network: relaxing network is stable" sh -c "tis-behaviour --network '$T/n1.tsv' | tail -1 | grep -q '^stable	'"
 ok "--network: T1 storm is collapse (f6 fell, T1s go on)" sh -c "tis-behaviour --network '$T/n2.tsv' | tail -1 | awk -F'\t' '{ exit !(\$1 == \"collapse\" && \$3 < 0.9 && \$4 > 100) }'"

@@ -16,8 +16,9 @@
 static const char usage[] =
 	"(--junction A B | --index K | --random K | --list FILE | --network)\n"
 	"       [--rate R | --tau T] [--gamma0 G] [--sigma S] [--p0 X] [--ka Y] [--time T]\n"
-	"       [--perturb EPS] [--seed N] [--scheme bdf|euler|split] [--rtol X] [--checkpoint T]\n"
-	"       [--dt DT] [--dr DR] [--t1 L] [--t1-new L] [--t1-again F] [--collapse L] [--trace FILE]\n"
+	"       [--perturb EPS] [--seed N] [--scheme dp5|bs3|bdf|euler|split] [--rtol X]\n"
+	"       [--checkpoint T] [--ou-dt H] [--dt DT] [--dr DR] [--t1 L] [--t1-new L]\n"
+	"       [--t1-again F] [--t1-rearm L] [--collapse L] [--trace FILE]\n"
 	"       [--trace-every T] [--watch K,..] [--events FILE] [--every T] [--threads N] [MESH]";
 static const char help[] =
 	"Integrate active junction tensions (paper eq. 1) with the overdamped vertex\n"
@@ -33,16 +34,19 @@ static const char help[] =
 	"  --network          every junction active (T1s on)\n"
 	"  --rate R, --tau T  myosin turnover rate 1/tau_m (default 1)\n"
 	"  --gamma0 G         ambient tension (default 0)\n"
-	"  --sigma S          tension noise, long-time s.d. (default 0; euler only)\n"
+	"  --sigma S          tension noise, long-time s.d. (default 0; not bdf)\n"
 	"  --p0 X, --ka Y     model parameters (override the mesh's)\n"
 	"  --time T           run until time T (default 1000)\n"
 	"  --perturb EPS      s.d. of the start perturbation (default " STR(ACT_PERTURB_DEFAULT) ";\n"
 	"                     0 for a mesh that carries tensions)\n"
 	"  --seed N           random seed (default 1)\n"
-	"  --scheme S         bdf (default), euler (the paper's; default with noise)\n"
-	"                     or split (euler, tension feedback exact per step;\n"
-	"                     default in network mode)\n"
-	"  --rtol X           bdf tolerance (default 1e-9)\n"
+	"  --scheme S         bdf (default), euler (the paper's; default with noise),\n"
+	"                     split (euler, tension feedback exact per step), dp5\n"
+	"                     (Runge-Kutta 5(4), error control, T1s as events;\n"
+	"                     default in network mode) or bs3 (Runge-Kutta 3(2))\n"
+	"  --rtol X           tolerance (default bdf " STR(ACT_BDF_RTOL) ", dp5 and bs3 " STR(ACT_RK_RTOL) ")\n"
+	"  --ou-dt H          dp5, bs3: noise grid, 1/H whole (default 1/max(100,\n"
+	"                     ceil(20 tau)))\n"
 	"  --checkpoint T     bdf restarts at multiples of T, where a stop (SIGTERM)\n"
 	"                     waits for; continuing is then bit-exact (default "
 	STR(ACT_BDF_CHECKPOINT) "; 0: never)\n"
@@ -50,7 +54,9 @@ static const char help[] =
 	"  --t1 L             T1 threshold (network default 0.01, else 0: off)\n"
 	"  --t1-new L         length of a junction made by a T1 (default 0.001)\n"
 	"  --t1-again F       it is T1'd again below F times that (default 0.9;\n"
-	"                     euler 0: as soon as it shrinks)\n"
+	"                     euler, split 0: as soon as it shrinks)\n"
+	"  --t1-rearm L       dp5, bs3: it gets the threshold back once longer\n"
+	"                     than L (default: the threshold; 0: never)\n"
 	"  --collapse L       T1s off: stop when an active junction is this short\n"
 	"                     (default 0.001)\n"
 	"  --trace FILE       TSV time series (several junctions: %d in FILE is the\n"
@@ -78,7 +84,7 @@ static struct opts parse(int argc, char **argv)
 {
 	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
 	       O_SIGMA, O_P0, O_KA, O_TIME, O_PERTURB, O_SEED, O_SCHEME, O_RTOL, O_CHECKPOINT, O_DT, O_DR,
-	       O_T1, O_T1NEW, O_T1AGAIN, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_WATCH, O_EVENTS, O_EVERY, O_VERSION };
+	       O_T1, O_T1NEW, O_T1AGAIN, O_T1REARM, O_OUDT, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_WATCH, O_EVENTS, O_EVERY, O_VERSION };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "index", required_argument, NULL, O_INDEX },
@@ -102,6 +108,8 @@ static struct opts parse(int argc, char **argv)
 		{ "t1", required_argument, NULL, O_T1 },
 		{ "t1-new", required_argument, NULL, O_T1NEW },
 		{ "t1-again", required_argument, NULL, O_T1AGAIN },
+		{ "t1-rearm", required_argument, NULL, O_T1REARM },
+		{ "ou-dt", required_argument, NULL, O_OUDT },
 		{ "collapse", required_argument, NULL, O_COLLAPSE },
 		{ "trace", required_argument, NULL, O_TRACE },
 		{ "trace-every", required_argument, NULL, O_TRACEEVERY },
@@ -134,7 +142,7 @@ static struct opts parse(int argc, char **argv)
 		case O_SEED: o.jo.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
 		case O_SCHEME:
 			if (act_scheme_parse(optarg, &o.a.scheme) != MESH_OK)
-				cli_usage_error("--scheme: bdf, euler or split, not '%s'", optarg);
+				cli_usage_error("--scheme: dp5, bs3, bdf, euler or split, not '%s'", optarg);
 			o.has_scheme = 1;
 			break;
 		case O_RTOL: o.a.rtol = cli_double_range("--rtol", optarg, 1e-14, 0.1); break;
@@ -144,6 +152,8 @@ static struct opts parse(int argc, char **argv)
 		case O_T1: o.a.t1_length = cli_double_range("--t1", optarg, 0, 0.5); o.has_t1 = 1; break;
 		case O_T1NEW: o.a.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
 		case O_T1AGAIN: o.a.t1_again = cli_double_range("--t1-again", optarg, 0, 0.999); break;
+		case O_T1REARM: o.a.t1_rearm = cli_double_range("--t1-rearm", optarg, 0, 1e6); break;
+		case O_OUDT: o.a.ou_dt = cli_double_range("--ou-dt", optarg, 1e-9, 1); break;
 		case O_COLLAPSE: o.a.l_collapse = cli_double_range("--collapse", optarg, 1e-9, 0.5); break;
 		case O_TRACE: o.trace = optarg; break;
 		case O_TRACEEVERY: o.jo.trace_every = cli_double_range("--trace-every", optarg, 1e-9, 1e12); break;
@@ -168,7 +178,13 @@ static struct opts parse(int argc, char **argv)
 	if (o.a.t1_length > 0 && !(o.a.t1_new < o.a.t1_length))
 		cli_usage_error("--t1-new must be shorter than the T1 threshold");
 	if (o.a.sigma > 0 && o.a.scheme == ACT_BDF)
-		cli_usage_error("--scheme bdf has no noise; use --scheme euler with --sigma");
+		cli_usage_error("--scheme bdf has no noise; use dp5 or euler with --sigma");
+	if (o.a.ou_dt > 0 && fabs(1 / o.a.ou_dt - round(1 / o.a.ou_dt)) > 1e-9 / o.a.ou_dt)
+		cli_usage_error("--ou-dt must be 1/N for a whole number N");
+	if (o.a.t1_rearm > 0 && o.a.t1_rearm < o.a.t1_length)
+		cli_usage_error("--t1-rearm must be 0 or at least the T1 threshold");
+	if (act_scheme_dense(o.a.scheme) && o.a.t1_length > 0 && o.a.t1_again == 0)
+		cli_usage_error("--t1-again 0 (flip back at once) is for euler and split only");
 	int multi = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_LIST;
 	if (o.jo.nwatch && !network)
 		cli_usage_error("--watch is for --network");

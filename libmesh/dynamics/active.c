@@ -1,7 +1,10 @@
 /* active.c - active junction runs: options, start state, the Euler scheme
- * (on dynamics.c) with its events; the BDF scheme is in bdf.c. */
+ * (on dynamics.c) with its events, the checkpoints of the Euler and
+ * Runge-Kutta schemes; the BDF scheme is in bdf.c, the Runge-Kutta ones
+ * in rk.c. */
 #include "active_int.h"
 #include "bdf.h"
+#include "rk.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -13,8 +16,9 @@
 void act_opts_init(act_opts *o)
 {
 	*o = (act_opts){ .scheme = ACT_BDF, .tau = 1, .gamma0 = 0, .sigma = 0,
-			 .rtol = 1e-9, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
-			 .t1_new = 1e-3, .t1_again = ACT_T1_AGAIN, .l_collapse = 1e-3,
+			 .rtol = 0, .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0,
+			 .t1_new = 1e-3, .t1_again = ACT_T1_AGAIN, .t1_rearm = -1,
+			 .ou_dt = 0, .l_collapse = 1e-3,
 			 .checkpoint = ACT_BDF_CHECKPOINT, .threads = 1 };
 }
 
@@ -31,12 +35,30 @@ const char *act_end_name(act_end e)
 
 const char *act_scheme_name(act_scheme s)
 {
-	return s == ACT_BDF ? "bdf" : s == ACT_SPLIT ? "split" : "euler";
+	switch (s) {
+	case ACT_BDF: return "bdf";
+	case ACT_SPLIT: return "split";
+	case ACT_DP5: return "dp5";
+	case ACT_BS3: return "bs3";
+	case ACT_EULER: break;
+	}
+	return "euler";
+}
+
+int act_scheme_dense(act_scheme s)
+{
+	return s == ACT_BDF || s == ACT_DP5 || s == ACT_BS3;
+}
+
+double act_ou_dt(double tau)
+{
+	double n = ceil(20 / tau);
+	return 1 / (n > 100 ? n : 100);
 }
 
 int act_scheme_parse(const char *name, act_scheme *s)
 {
-	static const act_scheme all[] = { ACT_EULER, ACT_BDF, ACT_SPLIT };
+	static const act_scheme all[] = { ACT_EULER, ACT_BDF, ACT_SPLIT, ACT_DP5, ACT_BS3 };
 	for (size_t k = 0; k < sizeof all / sizeof all[0]; k++)
 		if (strcmp(name, act_scheme_name(all[k])) == 0) {
 			*s = all[k];
@@ -58,9 +80,19 @@ static int check_opts(const act_opts *o, mesh_error *err)
 	if (!(o->t1_length >= 0 && isfinite(o->t1_length)) ||
 	    (o->t1_length > 0 && !(o->t1_new > 0 && o->t1_new < o->t1_length)))
 		return mesh_error_set(err, 0, MESH_EDOM, "bad T1 lengths (0 < new < threshold)");
-	if (!(o->t1_again >= 0 && o->t1_again < 1) || (o->scheme == ACT_BDF && !(o->t1_again > 0)))
-		return mesh_error_set(err, 0, MESH_EDOM, "t1_again must be in (0, 1) (euler: [0, 1))");
-	if (o->scheme == ACT_BDF) {
+	const int events = act_scheme_dense(o->scheme);
+	if (!(o->t1_again >= 0 && o->t1_again < 1) || (events && !(o->t1_again > 0)))
+		return mesh_error_set(err, 0, MESH_EDOM, "t1_again must be in (0, 1) (euler, split: [0, 1))");
+	if (o->scheme == ACT_DP5 || o->scheme == ACT_BS3) {
+		if (!(o->rtol >= 1e-14 && o->rtol <= 0.1))
+			return mesh_error_set(err, 0, MESH_EDOM, "rtol must be in [1e-14, 0.1]");
+		if (!(o->t1_rearm < 0 || o->t1_rearm == 0 || o->t1_rearm >= o->t1_length) ||
+		    !isfinite(o->t1_rearm))
+			return mesh_error_set(err, 0, MESH_EDOM, "the re-arm length must be 0 or at least the T1 threshold");
+		double n = o->ou_dt > 0 ? 1 / o->ou_dt : 1;
+		if (!(o->ou_dt >= 0 && o->ou_dt <= 1) || fabs(n - round(n)) > 1e-9 * n)
+			return mesh_error_set(err, 0, MESH_EDOM, "ou_dt must be 1/N for a whole number N");
+	} else if (o->scheme == ACT_BDF) {
 		if (o->sigma > 0)
 			return mesh_error_set(err, 0, MESH_EDOM, "the bdf scheme has no noise; use euler for sigma > 0");
 		if (!(o->rtol >= 1e-14 && o->rtol <= 0.1))
@@ -129,6 +161,15 @@ int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *a
               double t0, unsigned long seed, act **out, mesh_error *err)
 {
 	*out = NULL;
+	act_opts oo = *o;
+	/* the scheme's defaults */
+	if (oo.rtol == 0)
+		oo.rtol = oo.scheme == ACT_BDF ? ACT_BDF_RTOL : ACT_RK_RTOL;
+	if (oo.t1_rearm < 0)
+		oo.t1_rearm = oo.t1_length;
+	if (oo.ou_dt == 0)
+		oo.ou_dt = act_ou_dt(oo.tau);
+	o = &oo;
 	int st = check_opts(o, err);
 	if (st != MESH_OK)
 		return st;
@@ -159,7 +200,13 @@ int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *a
 		else
 			m->dg[j] = 0;
 	}
-	if (o->scheme != ACT_BDF) {
+	if (o->scheme == ACT_DP5 || o->scheme == ACT_BS3) {
+		a->seed = seed;
+		if ((st = rk_alloc(a, err)) != MESH_OK) {
+			act_free(a);
+			return st;
+		}
+	} else if (o->scheme != ACT_BDF) {
 		a->snap_r = malloc(2 * (size_t)m->nv * sizeof *a->snap_r);
 		a->snap_dg = malloc(nj * sizeof *a->snap_dg);
 		a->jprev = malloc(2 * nj * sizeof *a->jprev);
@@ -187,6 +234,7 @@ void act_free(act *a)
 		return;
 	dyn_free(a->d);
 	bdf_free(a->b);
+	rk_free(a->k);
 	free(a->active);
 	free(a->aj);
 	free(a->snap_r);
@@ -228,6 +276,8 @@ int act_sample(act *a, double t, double *r, double *dg)
 {
 	if (a->b)
 		return bdf_sample(a, t, r, dg);
+	if (a->k)
+		return rk_sample(a, t, r, dg);
 	const mesh *m = a->m;
 	memcpy(r, m->r, 2 * (size_t)m->nv * sizeof *r);
 	memcpy(dg, m->dg, (size_t)m->nj * sizeof *dg);
@@ -309,6 +359,8 @@ int act_rng_get(const act *a, char *buf, size_t n)
 {
 	if (a->d)
 		return dyn_rng_get(a->d, buf, n);
+	if (a->k)
+		return rk_rng_get(a->k, buf, n);
 	if (n < 1)
 		return MESH_EDOM;
 	buf[0] = '\0';
@@ -317,6 +369,8 @@ int act_rng_get(const act *a, char *buf, size_t n)
 
 int act_rng_set(act *a, const char *text)
 {
+	if (a->k)
+		return rk_rng_set(a->k, text);
 	if (a->d == NULL || text[0] == '\0')
 		return MESH_OK;
 	return dyn_rng_set(a->d, text);
@@ -325,7 +379,7 @@ int act_rng_set(act *a, const char *text)
 int act_fresh_get(const act *a, char **text)
 {
 	const mesh *m = a->m;
-	const unsigned char *f = a->d ? dyn_fresh(a->d) : NULL;
+	const unsigned char *f = a->d ? dyn_fresh(a->d) : a->k ? rk_fresh(a->k) : NULL;
 	size_t n = 1, len = 0;
 	for (int j = 0; f && j < m->nj; j++)
 		n += f[j] ? 24 : 0;
@@ -342,7 +396,7 @@ int act_fresh_get(const act *a, char **text)
 int act_fresh_set(act *a, const char *text)
 {
 	mesh *m = a->m;
-	if (a->d == NULL || text == NULL || text[0] == '\0')
+	if ((a->d == NULL && a->k == NULL) || text == NULL || text[0] == '\0')
 		return MESH_OK;
 	unsigned char *f = calloc((size_t)(m->nj ? m->nj : 1), 1);
 	mesh_jindex *ix = mesh_jindex_alloc(m);
@@ -366,8 +420,10 @@ int act_fresh_set(act *a, const char *text)
 		for (p = end; *p == ' '; p++)
 			;
 	}
-	if (st == MESH_OK)
+	if (st == MESH_OK && a->d)
 		dyn_set_fresh(a->d, f);
+	else if (st == MESH_OK)
+		rk_set_fresh(a, f);
 	mesh_jindex_free(ix);
 	free(f);
 	return st;
@@ -522,51 +578,60 @@ static int canonical(act *a, mesh_error *err)
 	for (int j = 0; j < m->nj; j++)
 		if (a->active[j])
 			a->aj[a->na++] = j;
-	st = euler_dyn(a, err);
+	if (a->k)
+		rk_set_fresh(a, NULL);
+	else
+		st = euler_dyn(a, err);
 	if (st == MESH_OK && act_fresh_set(a, fresh) != MESH_OK)
 		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	free(fresh);
 	return st;
 }
 
-/* The Euler run goes in segments that end at multiples of ACT_CHECKPOINT
- * (the last step of each shortened to land there).  A stop request is
- * honoured at the next one, and with T1s on each begins with the junction
- * numbers of a freshly read mesh and a fresh integrator: what a run
- * continued from the mesh written there does, so that it goes on bit for
- * bit as the uninterrupted run. */
-static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
-                     mesh_error *err)
+/* One Euler segment to tseg: a->why says how it ended. */
+static int euler_segment(act *a, double tseg, mesh_error *err)
+{
+	mesh_error e2;
+	int st = dyn_run(a->d, tseg, NULL, euler_obs, a, &e2);
+	if (st == MESH_ENOMEM)
+		return mesh_error_set(err, 0, st, "out of memory");
+	if (st != MESH_OK) {
+		/* non-finite forces (the state before the step is finite in r,
+		 * but its tensions may not be) or a passive junction collapsed */
+		if (state_finite(a) && strstr(e2.msg, "collapsed")) {
+			a->why = ACT_END_COLLAPSE;
+		} else {
+			restore(a);
+			a->why = ACT_END_NONFINITE;
+			mesh_error_set(err, 0, MESH_EDOM, "%s", e2.msg);
+		}
+	}
+	return MESH_OK;
+}
+
+static int rk_segment(act *a, double tseg, mesh_error *err)
+{
+	return rk_run(a, tseg, &a->why, err);
+}
+
+/* The Euler and Runge-Kutta runs go in segments that end at multiples of
+ * ACT_CHECKPOINT (the last step of each shortened to land there).  A stop
+ * request is honoured at the next one, and with T1s on each begins with
+ * the junction numbers of a freshly read mesh and a fresh integrator
+ * (Euler's made again, the Runge-Kutta one started afresh from the mesh):
+ * what a run continued from the mesh written there does, so that it goes
+ * on bit for bit as the uninterrupted run. */
+static int segments(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
+                    mesh_error *err, int (*one)(act *, double, mesh_error *))
 {
 	mesh *m = a->m;
 	a->why = ACT_END_TIME;
-	if (!a->have_prev) {
-		mesh_keep_wrapped(m);
-		snapshot(a);
-		for (int k = 0; k < a->na; k++)
-			junction_vec_sqrt(m, m->r, a->aj[k], a->jprev + 2 * k);
-		a->have_prev = 1;
-	}
 	while (a->t < t_end) {
 		double seg = (floor(a->t / ACT_CHECKPOINT) + 1) * ACT_CHECKPOINT;
 		long nt1 = a->c.nt1;
-		mesh_error e2;
-		int st = dyn_run(a->d, seg < t_end ? seg : t_end, NULL, euler_obs, a, &e2);
-		if (st == MESH_ENOMEM)
-			return mesh_error_set(err, 0, st, "out of memory");
-		if (st != MESH_OK) {
-			/* non-finite forces (the state before the step is finite
-			 * in r, but its tensions may not be) or a passive
-			 * junction collapsed */
-			if (state_finite(a) && strstr(e2.msg, "collapsed")) {
-				a->why = ACT_END_COLLAPSE;
-			} else {
-				restore(a);
-				a->why = ACT_END_NONFINITE;
-				mesh_error_set(err, 0, MESH_EDOM, "%s", e2.msg);
-			}
-			break;
-		}
+		int st = one(a, seg < t_end ? seg : t_end, err);
+		if (st != MESH_OK)
+			return st;
 		if (a->why != ACT_END_TIME)
 			break;
 		mesh_keep_wrapped(m);
@@ -583,6 +648,20 @@ static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end 
 	return MESH_OK;
 }
 
+static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
+                     mesh_error *err)
+{
+	mesh *m = a->m;
+	if (!a->have_prev) {
+		mesh_keep_wrapped(m);
+		snapshot(a);
+		for (int k = 0; k < a->na; k++)
+			junction_vec_sqrt(m, m->r, a->aj[k], a->jprev + 2 * k);
+		a->have_prev = 1;
+	}
+	return segments(a, t_end, stop, why, err, euler_segment);
+}
+
 int act_run(act *a, double t_end, volatile sig_atomic_t *stop, act_observer obs,
             void *data, act_end *why, mesh_error *err)
 {
@@ -591,6 +670,10 @@ int act_run(act *a, double t_end, volatile sig_atomic_t *stop, act_observer obs,
 	err->msg[0] = '\0';
 	if (a->d)
 		return euler_run(a, t_end, stop, why, err);
+	if (a->k) {
+		mesh_keep_wrapped(a->m);
+		return segments(a, t_end, stop, why, err, rk_segment);
+	}
 	return bdf_run(a, t_end, stop, why, err);
 }
 

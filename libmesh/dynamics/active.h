@@ -5,7 +5,7 @@
  *   d(dg_j)/dt = -dg_j/tau - (gamma0 + dg_j) (dl_j/dt)/l_j
  *               [+ sqrt(2 sigma^2/tau) xi_j]
  *
- * integrated by one of two schemes:
+ * integrated by one of these schemes:
  *
  *   ACT_EULER  the paper's explicit Euler (dynamics.h, DYN_FEEDBACK):
  *              dt <= dt_max, no vertex moving more than dr_max per step,
@@ -26,12 +26,24 @@
  *              (bdf.c).  Vertex coordinates are integrated as displacements
  *              from the start, so that rtol means the same everywhere in
  *              the box.  No noise (sigma must be 0).
+ *   ACT_DP5    Dormand-Prince 5(4), explicit, with error control (rtol,
+ *   ACT_BS3    as bdf's) and dense output (rk.c); Bogacki-Shampine 3(2)
+ *              the same with fewer stages.  The tension is carried as
+ *              w = (gamma0 + dg) l, whose equation has no 1/l term.  T1s,
+ *              their re-arming and the collapse are events located on the
+ *              dense output to |l - L| <= rtol L.  The noise is a forcing
+ *              constant on each cell of its own grid (ou_dt), drawn at the
+ *              cell's start and scaled so that without feedback dg at the
+ *              grid points is the exact OU process: one seed is one noise
+ *              path at every rtol, and the steps end on the grid.  The
+ *              default for networks (bench/RESULTS.md).
  *
  * Events are found as roots of the trajectory, not overshot: with T1s off,
  * the run ends when an active junction reaches l_collapse (ACT_COLLAPSE);
  * with T1s on (t1_length > 0) a junction reaching t1_length is T1'd.  Euler
  * locates them to its step (the step at which the length is first below
- * the threshold), BDF to the root of its interpolant.
+ * the threshold), BDF to the root of its interpolant, DP5 and BS3 on
+ * their dense output (events.h, rk.c).
  *
  * The time lives in the integrator (act_time); a run may start at any t0,
  * so that a run stopped and continued (the mesh's state lines, tis-mesh(5))
@@ -46,14 +58,19 @@
 #include "geom.h"
 #include "mesh.h"
 
-typedef enum { ACT_EULER, ACT_BDF, ACT_SPLIT } act_scheme;
+typedef enum { ACT_EULER, ACT_BDF, ACT_SPLIT, ACT_DP5, ACT_BS3 } act_scheme;
 
-/* "euler", "bdf", "split"; and back (MESH_EINVAL for another name). */
+/* "euler", "bdf", "split", "dp5", "bs3"; and back (MESH_EINVAL for
+ * another name). */
 const char *act_scheme_name(act_scheme s);
 int act_scheme_parse(const char *name, act_scheme *s);
+/* Whether the scheme has an interpolant between its step ends (bdf, dp5,
+ * bs3): then act_sample gives the state at any time of the last step. */
+int act_scheme_dense(act_scheme s);
 
-/* Euler runs stop (SIGTERM) and renumber after T1s only at multiples of
- * this time (active.c). */
+/* Euler and Runge-Kutta runs stop (SIGTERM) and renumber after T1s only
+ * at multiples of this time (active.c); the Runge-Kutta schemes start
+ * afresh there. */
 #define ACT_CHECKPOINT 1.0
 
 /* BDF restart interval (bench/RESULTS.md): a run stopped there and
@@ -65,15 +82,26 @@ int act_scheme_parse(const char *name, act_scheme *s);
  * (act_opts.t1_again; studies/README.md, "T1 flip-flops"). */
 #define ACT_T1_AGAIN 0.9
 
-/* BDF absolute tolerance per unit of rtol (lengths in sqrt(A0)). */
+/* The default tolerances: BDF's (single junctions), and the Runge-Kutta
+ * schemes', at which a network without T1s ends within 1e-6 of an exact
+ * solution in every length (tests/rk.c) and the flip-back count of
+ * networks is converged (bench/RESULTS.md). */
+#define ACT_BDF_RTOL 1e-9
+#define ACT_RK_RTOL 1e-6
+
+/* BDF and Runge-Kutta absolute tolerance per unit of rtol (lengths in
+ * sqrt(A0)). */
 #define ACT_ATOL_FACTOR 1e-2
 
 typedef struct {
 	act_scheme scheme;  /* ACT_BDF */
 	double tau;         /* tau_m = 1/rate (1) */
 	double gamma0;      /* ambient tension (0) */
-	double sigma;       /* noise: long-time s.d. of dg (0; Euler only) */
-	double rtol;        /* BDF relative tolerance (1e-9) */
+	double sigma;       /* noise: long-time s.d. of dg (0; not BDF) */
+	double rtol;        /* BDF, DP5, BS3: relative tolerance (0: the
+	                       scheme's default, ACT_BDF_RTOL, ACT_RK_RTOL) */
+	double ou_dt;       /* DP5, BS3: the noise grid; 1/ou_dt must be a
+	                       whole number (0: the default, act_ou_dt) */
 	double dt_max;      /* Euler: longest step (1e-3) */
 	double dr_max;      /* Euler: largest vertex move per step (1e-3) */
 	double t1_length;   /* T1 threshold (0: topology fixed) */
@@ -81,9 +109,15 @@ typedef struct {
 	double t1_again;    /* a junction made by a T1 is T1'd again once it
 	                       is shorter than t1_again t1_new (and shrinking,
 	                       Euler), until it has been longer than t1_length
-	                       (ACT_T1_AGAIN).  Euler also takes 0: again as
-	                       soon as it shrinks at all, the rule whose flip
-	                       count grows as 1/dt_max (dynamics.h) */
+	                       (ACT_T1_AGAIN; DP5, BS3: t1_rearm).  Euler also
+	                       takes 0: again as soon as it shrinks at all,
+	                       the rule whose flip count grows as 1/dt_max
+	                       (dynamics.h) */
+	double t1_rearm;    /* DP5, BS3: a junction made by a T1 gets the
+	                       threshold t1_length back once it grows past
+	                       this length (< 0: t1_length, the default; 0:
+	                       never, it stays on t1_again t1_new); at least
+	                       t1_length */
 	double l_collapse;  /* T1s off: stop when an active junction is this
 	                       short (1e-3) */
 	double checkpoint;  /* BDF: restart the integrator at multiples of this
@@ -116,6 +150,7 @@ typedef struct {
 	long nt1_refused;  /* T1s not allowed */
 	long nt1_again;    /* T1s of a junction made by a T1 before it grew
 	                      past t1_length: flip-backs */
+	long nreject;      /* DP5, BS3: rejected steps */
 	int jcollapse;     /* ACT_END_COLLAPSE: the junction, else -1 */
 } act_counts;
 
@@ -177,9 +212,9 @@ int act_row_at(act *a, double t, int j, act_row *row);
  * T1'd junction a-b is the new one (a-b turned by 90 degrees, topology.h,
  * so its length jumps from below t1_length to t1_new and its tension to
  * 0), and a junction next to it keeps its number while one of its
- * vertices changes; where the Euler schemes renumber the junctions (at
- * checkpoints after T1s) the watched ones are followed by their vertex
- * pairs.  MESH_EDOM (a number out of range), MESH_ENOMEM. */
+ * vertices changes; where the Euler and Runge-Kutta schemes renumber the
+ * junctions (at checkpoints after T1s) the watched ones are followed by
+ * their vertex pairs.  MESH_EDOM (a number out of range), MESH_ENOMEM. */
 int act_watch(act *a, const int *j, int n);
 
 /* The noise generator's state (ou_state_get), "" when no noise has been
@@ -189,7 +224,7 @@ int act_rng_get(const act *a, char *buf, size_t n);
 int act_rng_set(act *a, const char *text);
 
 /* The junctions made by a T1 that are on the lowered threshold (t1_again;
- * Euler schemes): their vertex pairs as text "a b a b ..." (malloc'd,
+ * Euler and Runge-Kutta schemes): their vertex pairs as text "a b a b ..." (malloc'd,
  * "" for none), and back (MESH_EINVAL for a pair that is no junction).  A
  * stopped run keeps them in its state line active_fresh.  MESH_ENOMEM. */
 int act_fresh_get(const act *a, char **text);
@@ -213,11 +248,16 @@ double act_rest_force(const mesh *m, const model *p);
  * does the output through the callbacks. */
 
 /* The defaults that depend on the kind of run, for the options not set:
- * in network mode T1s on (threshold ACT_NET_T1) and the split scheme (bdf
- * restarts at every T1, which a network does often: bench/RESULTS.md);
+ * in network mode T1s on (threshold ACT_NET_T1) and the dp5 scheme (error
+ * control, T1s as events, noise on its own grid; bdf restarts at every T1,
+ * which a network does often, and has no noise: bench/RESULTS.md);
  * otherwise T1s off, and euler with noise (bdf has none). */
 #define ACT_NET_T1 0.01
 void act_opts_mode(act_opts *o, int network, int t1_set, int scheme_set);
+
+/* The default noise grid of the Runge-Kutta schemes at tau: 1/N with
+ * N = max(100, ceil(20/tau)), at least 20 cells per correlation time. */
+double act_ou_dt(double tau);
 
 /* The start perturbation of a mesh at rest (its s.d.), and the largest
  * force a mesh assumed at rest may have. */

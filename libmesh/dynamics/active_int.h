@@ -1,5 +1,5 @@
 /* active_int.h - the run state of active junctions, which active.c (the
- * Euler and split schemes, and the dispatch) and bdf.c share; not an API. */
+ * Euler and split schemes, and the dispatch), bdf.c and rk.c share; not an API. */
 #ifndef TIS_ACTIVE_INT_H
 #define TIS_ACTIVE_INT_H
 
@@ -7,6 +7,7 @@
 #include "dynamics.h"
 
 typedef struct bdf bdf;
+typedef struct rk rk;
 
 struct act {
 	mesh *m;
@@ -39,6 +40,8 @@ struct act {
 	energy_ws *row_ws;
 	/* BDF */
 	bdf *b;
+	/* DP5, BS3 */
+	rk *k;
 };
 
 #endif

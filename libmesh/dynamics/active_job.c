@@ -14,7 +14,7 @@ void act_opts_mode(act_opts *o, int network, int t1_set, int scheme_set)
 	if (!t1_set)
 		o->t1_length = network ? ACT_NET_T1 : 0;
 	if ((o->sigma > 0 || network) && !scheme_set)
-		o->scheme = network ? ACT_SPLIT : ACT_EULER;
+		o->scheme = network ? ACT_DP5 : ACT_EULER;
 }
 
 /* The options that shape a run of junction j (-1: all), as the key of
@@ -146,7 +146,7 @@ static int observe(act *a, void *data)
 	double t = act_time(a);
 	double dt = u->jo->trace_every;
 	while (u->next_row <= t) {
-		int interp = u->o->scheme == ACT_BDF && u->next_row >= act_time_prev(a);
+		int interp = act_scheme_dense(u->o->scheme) && u->next_row >= act_time_prev(a);
 		row(u, interp ? u->next_row : t);
 		if (interp)
 			u->next_row = ++u->krow * dt;
@@ -281,6 +281,9 @@ int act_note(char *buf, size_t n, const act_opts *o, const act_result *r)
 	if (o->scheme == ACT_BDF)
 		len += snprintf(buf + len, n > (size_t)len ? n - len : 0,
 				", %ld factorizations, %ld GMRES iterations", r->c.nsetup, r->c.nlin);
+	if (o->scheme == ACT_DP5 || o->scheme == ACT_BS3)
+		len += snprintf(buf + len, n > (size_t)len ? n - len : 0, ", %ld rejected steps",
+				r->c.nreject);
 	return len;
 }
 

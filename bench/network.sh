@@ -1,0 +1,106 @@
+#!/bin/sh
+# tis-active --network: the Runge-Kutta default (dp5) against split and
+# the paper's euler, and dp5's convergence per seed, at three points
+# (324 cells, every junction active, T1s on at 0.01):
+#   4d      samples/disordered-1 relaxed at p0 3.65, rate 19.05, gamma0
+#           3.02, sigma 0.05 (paper Fig. 4D); 4d0 the same without noise
+#           (split and euler draw their noise per step, a path of their
+#           own: their error against dp5's is measured there)
+#   storm   samples/disordered-1 relaxed at p_hex, rate 0.1, gamma0 1
+#           (studies/README.md, "T1 flip-flops")
+#   4c      samples/ordered-11 relaxed at p_hex, rate 0.23, gamma0 0.09
+#           (paper Fig. 4C)
+# Usage: bench/network.sh run NAME POINT SEED TIME OPTIONS...  (one run:
+# its trace and CPU seconds into bench/out/network/NAME.*), or
+# bench/network.sh jobs PART (the job list of a part, one 'run' line
+# each, for xargs -P or a batch system: cost, conv, fig4d), or
+# bench/network.sh table PART (the table of RESULTS.md from the runs).
+# CPU seconds are /usr/bin/time's user time; quote them only beside the
+# machine's load.
+set -eu
+top=$(cd "$(dirname "$0")/.." && pwd)
+out=$top/bench/out/network
+mkdir -p "$out"
+PHEX=3.7224194364083982
+
+mesh() {
+	case $1 in
+	4d | 4d0) f=$out/d1-365.mesh; [ -s "$f" ] || tis-relax --p0 3.65 "$top/samples/disordered-1.mesh" >"$f" 2>/dev/null ;;
+	storm) f=$out/d1-phex.mesh; [ -s "$f" ] || tis-relax --p0 $PHEX "$top/samples/disordered-1.mesh" >"$f" 2>/dev/null ;;
+	4c) f=$out/o11-phex.mesh; [ -s "$f" ] || tis-relax --p0 $PHEX "$top/samples/ordered-11.mesh" >"$f" 2>/dev/null ;;
+	esac
+	echo "$f"
+}
+point() {
+	case $1 in
+	4d) echo "--rate 19.05 --gamma0 3.02 --sigma 0.05" ;;
+	4d0) echo "--rate 19.05 --gamma0 3.02" ;;
+	storm) echo "--rate 0.1 --gamma0 1" ;;
+	4c) echo "--rate 0.23 --gamma0 0.09" ;;
+	esac
+}
+
+case $1 in
+run)
+	name=$2 pt=$3 seed=$4 time=$5; shift 5
+	m=$(mesh "$pt")
+	# shellcheck disable=SC2046
+	/usr/bin/time -f %U -o "$out/$name.cpu" tis-active --network $(point "$pt") --seed "$seed" \
+		--time "$time" "$@" --trace-every 1 --trace "$out/$name.tsv" "$m" 2>/dev/null |
+		grep '^history tis-active' >"$out/$name.note" || true
+	;;
+jobs)
+	case $2 in
+	cost)
+		# run time against error at a short horizon (the storm starts near
+		# t 2); the reference dp5 at rtol 1e-9
+		for pt in 4d:5 4d0:5 storm:3 4c:50; do
+			p=${pt%:*} t=${pt#*:}
+			echo "run cost-$p-ref $p 1 $t --rtol 1e-9"
+			for r in 1e-4 1e-5 1e-6 1e-7; do echo "run cost-$p-dp5-$r $p 1 $t --rtol $r"; done
+			for h in 1e-3 5e-4 2.5e-4; do echo "run cost-$p-split-$h $p 1 $t --scheme split --dt $h --dr $h"; done
+			echo "run cost-$p-euler-1e-3 $p 1 $t --scheme euler"
+		done ;;
+	conv)
+		# three tolerances a factor 10 apart, per seed, 200 time units
+		for s in 1 2 3; do
+			for pt in 4d 4c; do for r in 1e-5 1e-6 1e-7; do echo "run conv-$pt-$s-$r $pt $s 200 --rtol $r"; done; done
+		done ;;
+	fig4d)
+		# Fig. 4D, S9 with the default: activity alone and with noise
+		for s in 1 2 3 4 5; do for g in 0 0.05 0.1 0.2; do
+			echo "run fig4d-$g-$s 4d $s 200 --sigma $g"
+		done; done ;;
+	esac ;;
+table)
+	val() { awk -F'\t' -v t="$2" -v c="$3" '!/^#/ && $1 == t { print $c }' "$out/$1.tsv" 2>/dev/null; }
+	case $2 in
+	cost)
+		printf 'point\trun\tcpu_s\tt\tf6\tW\tnt1\tnt1_again\t|W-W_ref|\n'
+		for pt in 4d:5 4d0:5 storm:3 4c:50; do
+			p=${pt%:*} t=${pt#*:}
+			wr=$(val cost-$p-ref "$t" 3)
+			for f in "$out"/cost-$p-*.tsv; do
+				n=$(basename "$f" .tsv)
+				w=$(val "$n" "$t" 3)
+				printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$p" "${n#cost-$p-}" "$(cat "$out/$n.cpu" 2>/dev/null | tail -1)" "$t" \
+					"$(val "$n" "$t" 2)" "$w" "$(val "$n" "$t" 4)" "$(val "$n" "$t" 8)" \
+					"$(awk -v a="$w" -v b="$wr" 'BEGIN { if (a == "" || b == "") print "-"; else { d = a - b; printf "%.2g", d < 0 ? -d : d } }')"
+			done
+		done ;;
+	conv)
+		printf 'point\tseed\trtol\tf6_50\tW_50\tnt1_50\tf6_200\tW_200\tnt1_200\tcpu_s\n'
+		for f in "$out"/conv-*.tsv; do
+			n=$(basename "$f" .tsv); set -- $(echo "$n" | tr - ' ')
+			printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$3" "$4" "$(val "$n" 50 2)" "$(val "$n" 50 3)" \
+				"$(val "$n" 50 4)" "$(val "$n" 200 2)" "$(val "$n" 200 3)" "$(val "$n" 200 4)" "$(cat "$out/$n.cpu" 2>/dev/null | tail -1)"
+		done ;;
+	fig4d)
+		printf 'sigma\tseed\tf6_0\tf6_50\tf6_200\tnt1_200\tnt1_again_200\n'
+		for f in "$out"/fig4d-*.tsv; do
+			n=$(basename "$f" .tsv); set -- $(echo "$n" | tr - ' ')
+			printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$3" "$(val "$n" 0 2)" "$(val "$n" 50 2)" "$(val "$n" 200 2)" \
+				"$(val "$n" 200 4)" "$(val "$n" 200 8)"
+		done ;;
+	esac ;;
+esac
