@@ -10,7 +10,7 @@
 # (TIS_TEST_SEED=N repeats them).
 . "$(dirname "$0")/lib.sh"
 
-plan 21
+plan 22
 
 tis-hex 6 6 --p0 3.65 >"$T/h.mesh" || exit 1
 tis-hex 6 6 --p0 3.7224194364083982 >"$T/phex.mesh" || exit 1
@@ -74,7 +74,9 @@ S="--perturb 1e-3 --seed 3 --p0 3.65"
 ok "euler, one junction with noise, stopped and continued: the unbroken run's bytes" \
 	continued eu "$T/h.mesh" tis-active --index 0 --rate 0.5 --gamma0 0.3 --scheme euler --sigma 0.02 $S --time 100
 ok "split, a network with noise and T1s: the unbroken run's bytes" \
-	continued sp "$T/h.mesh" tis-active --network --rate 0.5 --gamma0 0.5 --sigma 0.05 $S --time 40
+	continued sp "$T/h.mesh" tis-active --network --scheme split --rate 0.5 --gamma0 0.5 --sigma 0.05 $S --time 40
+ok "dp5 (the network default), a network with noise and T1s: the unbroken run's bytes" \
+	continued dp "$T/h.mesh" tis-active --network --rate 0.5 --gamma0 0.5 --sigma 0.05 $S --time 40
 ok "euler, a network with T1s: the unbroken run's bytes" \
 	continued en "$T/h.mesh" tis-active --network --scheme euler --rate 0.5 --gamma0 0.3 $S --time 40
 ok "bdf, one junction on a limit cycle: the unbroken run's bytes" \
@@ -87,7 +89,7 @@ ok "tis-anneal with noise, T1s, --seed and --p0: the unbroken run's bytes" \
 P="$T/sp.part"
 ok "a stopped tis-active run leaves its mark with the options that shape it" \
 	grep -q '^state run tis-active active all scheme split .* seed 3 perturb 0.001 p0 3.65' "$P"
-C="--network --rate 0.5 --gamma0 0.5 --sigma 0.05 --time 40"
+C="--network --scheme split --rate 0.5 --gamma0 0.5 --sigma 0.05 --time 40"
 fails_with 1 "continuing it with another --seed is refused" tis-active $C --perturb 1e-3 --seed 4 --p0 3.65 "$P"
 ok "... naming the seed it was stopped with" grep -q 'seed 3, not 4' "$T/err"
 fails_with 1 "with another --perturb (or none) is refused" tis-active $C --seed 3 --p0 3.65 "$P"

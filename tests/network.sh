@@ -6,7 +6,7 @@
 # stopped run with noise and T1s (also bs3), and bad usage.
 . "$(dirname "$0")/lib.sh"
 
-plan 12
+plan 11
 
 tis-hex 6 6 --p0 3.65 >"$T/h6.mesh" || exit 1
 tis-hex 12 12 --p0 3.65 >"$T/h12.mesh" || exit 1

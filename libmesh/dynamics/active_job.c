@@ -36,6 +36,10 @@ static void job_key(const model *p, const act_opts *o, const act_job_opts *jo, i
 	if (o->scheme == ACT_BDF) {
 		mesh_run_key_num(buf, n, "rtol", o->rtol);
 		mesh_run_key_num(buf, n, "checkpoint", o->checkpoint);
+	} else if (o->scheme == ACT_DP5 || o->scheme == ACT_BS3) {
+		mesh_run_key_num(buf, n, "rtol", o->rtol);
+		mesh_run_key_num(buf, n, "ou_dt", o->ou_dt);
+		mesh_run_key_num(buf, n, "t1_rearm", o->t1_rearm);
 	} else {
 		mesh_run_key_num(buf, n, "dt", o->dt_max);
 		mesh_run_key_num(buf, n, "dr", o->dr_max);
