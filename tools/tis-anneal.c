@@ -17,8 +17,8 @@
 static const char usage[] =
 	"[--sigma S | --stage SIGMA:DURATION ...] [--relax T] [--tau T] [--seed N]\n"
 	"       [--p0 X] [--ka Y] [--every T] [--log FILE] [--log-every T]\n"
-	"       [--dt DT] [--dr DR] [--ou-dt H] [--settle F] [--implicit TOL] [--t1 L]\n"
-	"       [--t1-new L] [FILE]";
+	"       [--dt DT] [--dr DR] [--ou-dt H] [--settle F] [--quench euler|adaptive]\n"
+	"       [--implicit TOL] [--paper] [--t1 L] [--t1-new L] [FILE]";
 static const char help[] =
 	"Overdamped vertex dynamics with Ornstein-Uhlenbeck noise on every junction\n"
 	"tension and T1 transitions, run as a protocol of stages.  The default is the\n"
@@ -43,9 +43,17 @@ static const char help[] =
 	"  --settle F            in a stage without noise, once max force and tension\n"
 	"                        are <= F, minimize and skip to the stage's end\n"
 	"                        (default " STR(ANNEAL_SETTLE_DEFAULT) "; 0: step to the end)\n"
-	"  --implicit TOL        once such a settling is refused, integrate the rest of\n"
-	"                        the stage by backward Euler steps with local error TOL\n"
-	"                        and T1 events (default 0: explicit steps)\n"
+	"  --quench SCHEME       the steps of a stage without noise: adaptive (default:\n"
+	"                        T1s located as events, backward Euler steps chosen by\n"
+	"                        error once the flow is slow) or euler (the paper's\n"
+	"                        fixed explicit steps)\n"
+	"  --implicit TOL        the local error of the implicit steps (adaptive: default\n"
+	"                        " STR(DYN_QUENCH_TOL) "; euler: once a settling is refused, the rest of\n"
+	"                        the stage by such steps; default 0: none)\n"
+	"  --paper               the protocol as the suite ran it before the adaptive\n"
+	"                        quench: the paper's steps in every stage (--dt 0.001\n"
+	"                        --dr 0.001 --quench euler --implicit 0) with --ou-dt\n"
+	"                        0.01 --settle 1e-4; options after it override it\n"
 	"  --t1 L                T1 threshold length (default 0.01, 0: no T1s)\n"
 	"  --t1-new L            length of a junction made by a T1 (default 0.001)\n"
 	"  -h, --help            this help\n"
@@ -83,7 +91,8 @@ static void parse_stage(struct opts *o, const char *arg)
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_SIGMA = 256, O_STAGE, O_RELAX, O_TAU, O_SEED, O_P0, O_KA, O_EVERY,
-	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_SETTLE, O_IMPLICIT, O_T1, O_T1NEW, O_VERSION };
+	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_SETTLE, O_IMPLICIT, O_T1, O_T1NEW, O_QUENCH, O_PAPER,
+	       O_VERSION };
 	static const struct option lo[] = {
 		{ "sigma", required_argument, NULL, O_SIGMA },
 		{ "stage", required_argument, NULL, O_STAGE },
@@ -100,6 +109,8 @@ static struct opts parse(int argc, char **argv)
 		{ "ou-dt", required_argument, NULL, O_OUDT },
 		{ "settle", required_argument, NULL, O_SETTLE },
 		{ "implicit", required_argument, NULL, O_IMPLICIT },
+		{ "quench", required_argument, NULL, O_QUENCH },
+		{ "paper", no_argument, NULL, O_PAPER },
 		{ "t1", required_argument, NULL, O_T1 },
 		{ "t1-new", required_argument, NULL, O_T1NEW },
 		{ "help", no_argument, NULL, 'h' },
@@ -126,6 +137,15 @@ static struct opts parse(int argc, char **argv)
 		case O_OUDT: o.a.d.ou_dt = cli_double_range("--ou-dt", optarg, 0, 1e9); break;
 		case O_SETTLE: o.a.d.settle = cli_double_range("--settle", optarg, 0, 1e6); break;
 		case O_IMPLICIT: o.a.d.implicit = cli_double_range("--implicit", optarg, 0, 1); break;
+		case O_QUENCH:
+			if (strcmp(optarg, "adaptive") == 0)
+				o.a.d.quench = DYN_QUENCH_ADAPTIVE;
+			else if (strcmp(optarg, "euler") == 0)
+				o.a.d.quench = DYN_QUENCH_EULER;
+			else
+				cli_usage_error("--quench: expected euler or adaptive, got '%s'", optarg);
+			break;
+		case O_PAPER: anneal_opts_paper(&o.a); break;
 		case O_T1: o.a.d.t1_length = cli_double_range("--t1", optarg, 0, 0.5); break;
 		case O_T1NEW: o.a.d.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
 		case 'h': cli_help(help);

@@ -14,6 +14,17 @@ void anneal_opts_init(anneal_opts *o)
 	o->d.tau = 1;
 	o->d.settle = ANNEAL_SETTLE_DEFAULT;
 	o->d.ou_dt = ANNEAL_OUDT_DEFAULT;
+	o->d.quench = DYN_QUENCH_ADAPTIVE;
+}
+
+void anneal_opts_paper(anneal_opts *o)
+{
+	o->d.dt_max = 1e-3;
+	o->d.dr_max = 1e-3;
+	o->d.ou_dt = ANNEAL_OUDT_DEFAULT;
+	o->d.settle = ANNEAL_SETTLE_DEFAULT;
+	o->d.quench = DYN_QUENCH_EULER;
+	o->d.implicit = 0;
 }
 
 void anneal_default_stages(anneal_opts *o, double quench)
@@ -34,9 +45,11 @@ void anneal_protocol(const anneal_opts *o, char *buf, size_t n)
 	                "ou_dt %.17g settle %.17g t1 %.17g t1_new %.17g", o->relax, o->d.tau,
 	                o->seed, o->d.dt_max, o->d.dr_max, o->d.ou_dt, o->d.settle,
 	                o->d.t1_length, o->d.t1_new);
-	/* only when on: the text of a run without it stays as it was */
+	/* only when on: the text of a run without them stays as it was */
 	if (o->d.implicit > 0)
-		snprintf(buf + len, n - len, " implicit %.17g", o->d.implicit);
+		len += snprintf(buf + len, n - len, " implicit %.17g", o->d.implicit);
+	if (o->d.quench == DYN_QUENCH_ADAPTIVE)
+		snprintf(buf + len, n - len, " quench adaptive");
 }
 
 int anneal_resume(mesh *m, const anneal_opts *o, int *continued, mesh_error *err)
@@ -225,10 +238,14 @@ int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *
 		ADD("; %ld sigma=0 stages finished by Newton minimization at fixed topology once max "
 		    "force and tension <= %g (settle), covering %.10g time units", c->nsettle,
 		    o->d.settle, c->t_settled);
+	if (o->d.quench == DYN_QUENCH_ADAPTIVE)
+		ADD("; adaptive quench: %ld explicit steps landed on a T1, %ld switches to implicit "
+		    "steps", c->nevent_expl, c->nswitch);
 	if (c->nimpl > 0 || c->nimpl_fail > 0)
 		ADD("; %ld implicit steps (local error <= %g, %ld solves, %ld landed on a T1, %ld "
-		    "taken explicitly) covering %.10g time units", c->nimpl, o->d.implicit, c->nsolve,
-		    c->nevent, c->nimpl_fail, c->t_implicit);
+		    "taken explicitly) covering %.10g time units", c->nimpl,
+		    o->d.implicit > 0 ? o->d.implicit : DYN_QUENCH_TOL, c->nsolve, c->nevent,
+		    c->nimpl_fail, c->t_implicit);
 	if (r->continued)
 		ADD("; continued from t %.10g", r->c0.t);
 	if (why)

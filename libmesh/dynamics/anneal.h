@@ -37,6 +37,11 @@ typedef struct {
 
 /* The defaults above, no stages yet. */
 void anneal_opts_init(anneal_opts *o);
+/* The scheme of the protocol as the suite ran it before the adaptive
+ * quench (the shipped samples were made so): the paper's steps in every
+ * stage (dt = dr = 1e-3, DYN_QUENCH_EULER, no implicit steps) with the
+ * noise grid and settling above.  The same bytes as then. */
+void anneal_opts_paper(anneal_opts *o);
 /* The paper's protocol: sigma 0.5 for 3000, then quench for 7000. */
 void anneal_default_stages(anneal_opts *o, double quench);
 
