@@ -18,7 +18,7 @@ static const char usage[] =
 	"[--sigma S | --stage SIGMA:DURATION ...] [--relax T] [--tau T] [--seed N]\n"
 	"       [--p0 X] [--ka Y] [--every T] [--log FILE] [--log-every T]\n"
 	"       [--dt DT] [--dr DR] [--ou-dt H] [--settle F] [--quench euler|adaptive]\n"
-	"       [--implicit TOL] [--paper] [--t1 L] [--t1-new L] [FILE]";
+	"       [--implicit TOL] [--paper] [--t1 L] [--t1-new L] [--t1-again F] [FILE]";
 static const char help[] =
 	"Overdamped vertex dynamics with Ornstein-Uhlenbeck noise on every junction\n"
 	"tension and T1 transitions, run as a protocol of stages.  The default is the\n"
@@ -56,6 +56,9 @@ static const char help[] =
 	"                        0.01 --settle 1e-4; options after it override it\n"
 	"  --t1 L                T1 threshold length (default 0.01, 0: no T1s)\n"
 	"  --t1-new L            length of a junction made by a T1 (default 0.001)\n"
+	"  --t1-again F          a junction made by a T1 is T1'd again only once shorter\n"
+	"                        than F times --t1-new (0, the default: as soon as it\n"
+	"                        shrinks)\n"
 	"  -h, --help            this help\n"
 	"  --version             print the version\n";
 
@@ -91,7 +94,7 @@ static void parse_stage(struct opts *o, const char *arg)
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_SIGMA = 256, O_STAGE, O_RELAX, O_TAU, O_SEED, O_P0, O_KA, O_EVERY,
-	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_SETTLE, O_IMPLICIT, O_T1, O_T1NEW, O_QUENCH, O_PAPER,
+	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_SETTLE, O_IMPLICIT, O_T1, O_T1NEW, O_QUENCH, O_PAPER, O_T1AGAIN,
 	       O_VERSION };
 	static const struct option lo[] = {
 		{ "sigma", required_argument, NULL, O_SIGMA },
@@ -111,6 +114,7 @@ static struct opts parse(int argc, char **argv)
 		{ "implicit", required_argument, NULL, O_IMPLICIT },
 		{ "quench", required_argument, NULL, O_QUENCH },
 		{ "paper", no_argument, NULL, O_PAPER },
+		{ "t1-again", required_argument, NULL, O_T1AGAIN },
 		{ "t1", required_argument, NULL, O_T1 },
 		{ "t1-new", required_argument, NULL, O_T1NEW },
 		{ "help", no_argument, NULL, 'h' },
@@ -146,6 +150,7 @@ static struct opts parse(int argc, char **argv)
 				cli_usage_error("--quench: expected euler or adaptive, got '%s'", optarg);
 			break;
 		case O_PAPER: anneal_opts_paper(&o.a); break;
+		case O_T1AGAIN: o.a.d.t1_again = cli_double_range("--t1-again", optarg, 0, 0.999); break;
 		case O_T1: o.a.d.t1_length = cli_double_range("--t1", optarg, 0, 0.5); break;
 		case O_T1NEW: o.a.d.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
 		case 'h': cli_help(help);
