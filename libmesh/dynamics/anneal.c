@@ -25,6 +25,7 @@ void anneal_opts_paper(anneal_opts *o)
 	o->d.settle = ANNEAL_SETTLE_DEFAULT;
 	o->d.quench = DYN_QUENCH_EULER;
 	o->d.implicit = 0;
+	o->d.t1_again = 0;
 }
 
 void anneal_default_stages(anneal_opts *o, double quench)
@@ -48,6 +49,8 @@ void anneal_protocol(const anneal_opts *o, char *buf, size_t n)
 	/* only when on: the text of a run without them stays as it was */
 	if (o->d.implicit > 0)
 		len += snprintf(buf + len, n - len, " implicit %.17g", o->d.implicit);
+	if (o->d.t1_again > 0)
+		len += snprintf(buf + len, n - len, " t1_again %.17g", o->d.t1_again);
 	if (o->d.quench == DYN_QUENCH_ADAPTIVE)
 		snprintf(buf + len, n - len, " quench adaptive");
 }
@@ -230,6 +233,8 @@ int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *
 	    o->d.dt_max, o->d.dr_max, o->seed, c->t, c->nstep, c->nt1);
 	if (c->nt1_refused)
 		ADD(", %ld refused", c->nt1_refused);
+	if (o->d.t1_again > 0)
+		ADD(" (a junction a T1 made T1'd again only below %g times its length)", o->d.t1_again);
 	if (o->d.ou_dt > 0)
 		ADD("; noise updated every %g", o->d.ou_dt);
 	else

@@ -652,7 +652,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		d->fsettle = fsettle;
 		if (adaptive && !d->impl && fmax > 0 && d->c.nstep % DYN_QUENCH_CHECK == 0 &&
 		    tensions_below(m, 0.01 * qtol)) {
-			double dt0 = fmin(o.dt_max, o.dr_max / fmax);
+			double dt0 = fmin(fmin(o.dt_max, DYN_QUENCH_DT), fmin(o.dr_max, DYN_QUENCH_DT) / fmax);
 			double h = check_h(d, qtol, fmax);
 			if (h < 0)
 				return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
@@ -677,9 +677,10 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				continue;
 			}
 		}
-		double dt = o.dt_max;
-		if (fmax * dt > o.dr_max)
-			dt = o.dr_max / fmax;
+		double dt = adaptive ? fmin(o.dt_max, DYN_QUENCH_DT) : o.dt_max;
+		double drm = adaptive ? fmin(o.dr_max, DYN_QUENCH_DT) : o.dr_max;
+		if (fmax * dt > drm)
+			dt = drm / fmax;
 		int last = 0;
 		if (dt >= t_end - d->c.t) {
 			dt = t_end - d->c.t;
