@@ -141,6 +141,50 @@ static int run_to(struct run *u, double t_end, volatile sig_atomic_t *stop, anne
 	return r->why == ANNEAL_END_DONE;
 }
 
+/* With t1_again > 0 the junctions a T1 made that have not yet been
+ * longer than the threshold decide which T1s are done (dynamics.h), and
+ * dyn's state lines do not hold them: a stopped run lists them (in the
+ * integrator's numbering, which dyn_junctions restores). */
+static int fresh_save(const dyn *d, mesh *m)
+{
+	const unsigned char *f = dyn_fresh(d);
+	size_t cap = 16 * (size_t)(m->nj + 1), len = 0;
+	char *s = malloc(cap);
+	if (s == NULL)
+		return MESH_ENOMEM;
+	s[0] = '\0';
+	for (int j = 0; j < m->nj; j++)
+		if (f[j])
+			len += (size_t)snprintf(s + len, cap - len, len ? " %d" : "%d", j);
+	int st = len ? mesh_state_set(m, "anneal_fresh", s) : MESH_OK;
+	free(s);
+	return st;
+}
+
+static int fresh_load(dyn *d, mesh *m)
+{
+	const char *t = mesh_state_get(m, "anneal_fresh");
+	unsigned char *f = calloc((size_t)(m->nj ? m->nj : 1), 1);
+	if (f == NULL)
+		return MESH_ENOMEM;
+	int st = MESH_OK;
+	for (const char *p = t ? t : ""; *p && st == MESH_OK;) {
+		char *end;
+		long j = strtol(p, &end, 10);
+		if (end == p || j < 0 || j >= m->nj)
+			st = MESH_EINVAL;
+		else
+			f[j] = 1;
+		p = end;
+		while (*p == ' ')
+			p++;
+	}
+	if (st == MESH_OK)
+		dyn_set_fresh(d, f);
+	free(f);
+	return st;
+}
+
 int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
                volatile sig_atomic_t *stop, const anneal_io *io, anneal_result *r,
                mesh_error *err)
@@ -159,9 +203,15 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 		dyn_free(u.d);
 		return mesh_error_set(err, 0, MESH_EINVAL, "%s: %s", o->name ? o->name : "<mesh>", e2.msg);
 	}
+	if (continued && o->d.t1_again > 0 && fresh_load(u.d, m) != MESH_OK) {
+		dyn_free(u.d);
+		return mesh_error_set(err, 0, MESH_EINVAL, "%s: state anneal_fresh: not the state of "
+		                      "a tis run of this mesh", o->name ? o->name : "<mesh>");
+	}
 	/* used up: frames and the final mesh carry only a new one */
 	dyn_state_clear(m);
 	mesh_state_del(m, "anneal_run");
+	mesh_state_del(m, "anneal_fresh");
 	dyn_counts_get(u.d, &r->c0);
 	/* frames and log rows at the first step at or after each multiple of
 	 * their interval; a continued run goes on with the next one */
@@ -205,7 +255,8 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 			/* a stopped run leaves what continuing it needs */
 			char proto[2048];
 			anneal_protocol(o, proto, sizeof proto);
-			if (dyn_state_save(u.d) != MESH_OK || mesh_state_set(m, "anneal_run", proto) != MESH_OK)
+			if (dyn_state_save(u.d) != MESH_OK || mesh_state_set(m, "anneal_run", proto) != MESH_OK ||
+			    (o->d.t1_again > 0 && fresh_save(u.d, m) != MESH_OK))
 				st = MESH_ENOMEM;
 			log_row(&u);
 		} else if (mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)
