@@ -14,6 +14,8 @@ void anneal_opts_init(anneal_opts *o)
 	o->d.tau = 1;
 	o->d.settle = ANNEAL_SETTLE_DEFAULT;
 	o->d.ou_dt = ANNEAL_OUDT_DEFAULT;
+	o->d.dt_max = o->d.dr_max = ANNEAL_DT_DEFAULT;
+	o->d.t1_again = ANNEAL_T1AGAIN_DEFAULT;
 	o->d.quench = DYN_QUENCH_ADAPTIVE;
 }
 
@@ -21,7 +23,7 @@ void anneal_opts_paper(anneal_opts *o)
 {
 	o->d.dt_max = 1e-3;
 	o->d.dr_max = 1e-3;
-	o->d.ou_dt = ANNEAL_OUDT_DEFAULT;
+	o->d.ou_dt = ANNEAL_PAPER_OUDT;
 	o->d.settle = ANNEAL_SETTLE_DEFAULT;
 	o->d.quench = DYN_QUENCH_EULER;
 	o->d.implicit = 0;
@@ -230,12 +232,19 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 	for (int i = 0; i < o->nstage && done; i++) {
 		u.s.stage = i;
 		dyn_options(u.d)->sigma = o->sig[i];
+		/* t1_again in the noisy stages only: in a quench, a four-fold
+		 * vertex whose two resolutions both shrink would cycle through
+		 * them at its own period for ever (a 324-cell quench never
+		 * settled in 8000 time units); the paper's rule lets the
+		 * steps decide it */
+		dyn_options(u.d)->t1_again = o->sig[i] > 0 ? o->d.t1_again : 0;
 		tcum += o->dur[i];
 		done = run_to(&u, tcum, stop, r, err, &st);
 	}
 	dyn_counts_get(u.d, &r->before_relax);
 	if (done && o->relax > 0) {
 		dyn_options(u.d)->sigma = 0;
+		dyn_options(u.d)->t1_again = 0;
 		tcum += o->relax;
 		u.s.stage = o->nstage;
 		done = run_to(&u, tcum, stop, r, err, &st);
@@ -285,7 +294,8 @@ int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *
 	if (c->nt1_refused)
 		ADD(", %ld refused", c->nt1_refused);
 	if (o->d.t1_again > 0)
-		ADD(" (a junction a T1 made T1'd again only below %g times its length)", o->d.t1_again);
+		ADD(" (in noisy stages a junction a T1 made T1'd again only below %g times its length)",
+		    o->d.t1_again);
 	if (o->d.ou_dt > 0)
 		ADD("; noise updated every %g", o->d.ou_dt);
 	else
