@@ -737,7 +737,11 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		d->disp += dt * fmax;
 		d->ldisp += dt * fmax;
 		if (dg) {
-			if (o.ou_dt == 0) {
+			/* the adaptive quench decays what is left of the tensions
+			 * at every step (no random numbers: nothing to save by a
+			 * coarse grid, and held tensions would make the quench's
+			 * first moments, and its T1s, depend on ou_dt) */
+			if (o.ou_dt == 0 || adaptive) {
 				ou_step(d->noise, dg, nj, d->active, dt, o.tau, o.sigma);
 			} else {
 				/* exact OU over the time since the last update, the
