@@ -157,16 +157,6 @@ static int stop_at(dyn *d, void *data)
 	return c.nimpl >= *(long *)data;
 }
 
-/* The mesh as written, for byte comparisons. */
-static char *text(const mesh *m, size_t *n)
-{
-	char *s = NULL;
-	FILE *f = open_memstream(&s, n);
-	mesh_write(f, m);
-	fclose(f);
-	return s;
-}
-
 /* Stopped after each of the implicit step counts in stops (through the
  * written mesh and its state lines), continued, against no stop. */
 static void resume(int n, unsigned long seed, double t1, const long *stops, int nstop)
@@ -184,36 +174,23 @@ static void resume(int n, unsigned long seed, double t1, const long *stops, int 
 	mesh_error err;
 	int k, stopped = 0;
 	for (k = 0; k <= nstop && st == MESH_OK; k++) {
-		dyn *d;
-		if ((st = dyn_alloc(b, &p, &o, 1, &d, &err)) != MESH_OK ||
-		    (st = dyn_state_load(d, &err)) != MESH_OK)
+		dyn *d = NULL;
+		st = run_leg(b, &p, &o, 800, k < nstop ? stop_at : NULL,
+		             k < nstop ? (void *)&stops[k] : NULL, &d, &err);
+		if (d == NULL)
 			break;
-		st = dyn_run(d, 800, NULL, k < nstop ? stop_at : NULL, k < nstop ? (void *)&stops[k] : NULL,
-		             &err);
 		dyn_counts_get(d, &cb);
 		stopped += k < nstop && cb.t < 800 && cb.nimpl == stops[k];
 		if (st == MESH_OK && k < nstop)
 			st = dyn_state_save(d);
 		dyn_free(d);
-		if (k < nstop && st == MESH_OK) {
-			/* through the text a continued run reads */
-			size_t len;
-			char *s = text(b, &len);
-			FILE *f = fmemopen(s, len, "r");
-			long line = 0;
-			mesh *c;
-			st = mesh_read(f, &line, &c, &err);
-			fclose(f);
-			free(s);
-			if (st == MESH_OK && (st = dyn_state_restore_mesh(c, &err)) == MESH_OK) {
-				mesh_free(b);
-				b = c;
-			}
-		}
+		/* through the text a continued run reads */
+		if (k < nstop && st == MESH_OK)
+			st = through_text(&b, &err);
 	}
 	dyn_state_clear(b);
 	size_t la, lb;
-	char *ta = text(a, &la), *tb = text(b, &lb);
+	char *ta = mesh_text(a, &la), *tb = mesh_text(b, &lb);
 	ok(st == MESH_OK && stopped == nstop && la == lb && memcmp(ta, tb, la) == 0 && cb.nimpl == ca.nimpl &&
 	   cb.nsolve == ca.nsolve && cb.nevent == ca.nevent,
 	   "stopped in implicit mode %d times of %d (%ld implicit steps in all), continued: the "

@@ -5,6 +5,8 @@
 #define TIS_TEST_QUENCH_UTIL_H
 
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include "dynamics.h"
 #include "geom.h"
 #include "lattice.h"
@@ -74,6 +76,50 @@ __attribute__((unused)) static double max_shift(const mesh *a, const mesh *b)
 		mx = fmax(mx, hypot(dx, dy));
 	}
 	return mx;
+}
+
+/* The mesh as written, for byte comparisons (malloc'ed, *n bytes). */
+__attribute__((unused)) static char *mesh_text(const mesh *m, size_t *n)
+{
+	char *s = NULL;
+	FILE *f = open_memstream(&s, n);
+	mesh_write(f, m);
+	fclose(f);
+	return s;
+}
+
+/* One leg of a stopped and continued run: an integrator for b at p, o
+ * (*d, for the caller to save and free), its state loaded from b's state
+ * lines, run to t_end or until obs stops it. */
+__attribute__((unused)) static int run_leg(mesh *b, const model *p, const dyn_opts *o,
+                                           double t_end, dyn_observer obs, void *data, dyn **d,
+                                           mesh_error *err)
+{
+	int st = dyn_alloc(b, p, o, 1, d, err);
+	if (st != MESH_OK)
+		return st;
+	if ((st = dyn_state_load(*d, err)) != MESH_OK)
+		return st;
+	return dyn_run(*d, t_end, NULL, obs, data, err);
+}
+
+/* *b written and read back with its state lines restored, as a continued
+ * run reads it (*b replaced on success). */
+__attribute__((unused)) static int through_text(mesh **b, mesh_error *err)
+{
+	size_t len;
+	char *s = mesh_text(*b, &len);
+	FILE *f = fmemopen(s, len, "r");
+	long line = 0;
+	mesh *c;
+	int st = mesh_read(f, &line, &c, err);
+	fclose(f);
+	free(s);
+	if (st == MESH_OK && (st = dyn_state_restore_mesh(c, err)) == MESH_OK) {
+		mesh_free(*b);
+		*b = c;
+	}
+	return st;
 }
 
 #endif

@@ -1,5 +1,6 @@
 #!/bin/sh
-# tis-anneal resume: a run stopped by SIGTERM (or SIGINT) at any step, and
+# tis-anneal resume (the paper's fixed steps, long enough to stop often;
+# tests/continue.sh stops the default): a run stopped by SIGTERM (or SIGINT) at any step, and
 # continued by the same command on the mesh it left, ends with the same
 # final mesh, bit for bit apart from history lines, as a run never
 # stopped; with noise (two noisy stages), T1s and the settling relax
@@ -9,7 +10,7 @@
 plan 9
 
 tis-hex 6 6 --p0 3.65 >"$T/h.mesh" || exit 1
-P="--stage 0.8:100 --stage 0.1:60 --relax 20 --seed 5"
+P="--paper --stage 0.8:100 --stage 0.1:60 --relax 20 --seed 5"
 t0=$(date +%s.%N)
 tis-anneal $P "$T/h.mesh" >"$T/full.mesh" 2>"$T/full.err"
 t1=$(date +%s.%N)

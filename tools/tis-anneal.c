@@ -17,8 +17,9 @@
 static const char usage[] =
 	"[--sigma S | --stage SIGMA:DURATION ...] [--relax T] [--tau T] [--seed N]\n"
 	"       [--p0 X] [--ka Y] [--every T] [--log FILE] [--log-every T]\n"
-	"       [--dt DT] [--dr DR] [--ou-dt H] [--settle F] [--implicit TOL] [--t1 L]\n"
-	"       [--t1-new L] [--threads N] [FILE]";
+	"       [--dt DT] [--dr DR] [--ou-dt H] [--settle F] [--quench euler|adaptive]\n"
+	"       [--implicit TOL] [--paper] [--t1 L] [--t1-new L] [--t1-again F]\n"
+	"       [--threads N] [FILE]";
 static const char help[] =
 	"Overdamped vertex dynamics with Ornstein-Uhlenbeck noise on every junction\n"
 	"tension and T1 transitions, run as a protocol of stages.  The default is the\n"
@@ -35,20 +36,33 @@ static const char help[] =
 	"  --every T             also write the mesh every T time units (a mesh stream)\n"
 	"  --log FILE            TSV time series: t, f6, energy, T1 count\n"
 	"  --log-every T         log interval (default 1)\n"
-	"  --dt DT               longest time step (default 0.001)\n"
-	"  --dr DR               largest vertex move per step (default 0.001)\n"
+	"  --dt DT               longest time step (default " STR(ANNEAL_DT_DEFAULT) "; a stage without\n"
+	"                        noise steps explicitly at most 0.001)\n"
+	"  --dr DR               largest vertex move per step (default " STR(ANNEAL_DT_DEFAULT) ")\n"
 	"  --ou-dt H             update the tension noise exactly every H time units,\n"
 	"                        holding it in between (default " STR(ANNEAL_OUDT_DEFAULT) "; 0: every\n"
 	"                        step, the paper's scheme)\n"
 	"  --settle F            in a stage without noise, once max force and tension\n"
 	"                        are <= F, minimize and skip to the stage's end\n"
 	"                        (default " STR(ANNEAL_SETTLE_DEFAULT) "; 0: step to the end)\n"
-	"  --implicit TOL        once such a settling is refused, integrate the rest of\n"
-	"                        the stage by backward Euler steps with local error TOL\n"
-	"                        and T1 events (default 0: explicit steps)\n"
+	"  --quench SCHEME       the steps of a stage without noise: adaptive (default:\n"
+	"                        T1s located as events, backward Euler steps chosen by\n"
+	"                        error once the flow is slow) or euler (the paper's\n"
+	"                        fixed explicit steps)\n"
+	"  --implicit TOL        the local error of the implicit steps (adaptive: default\n"
+	"                        " STR(DYN_QUENCH_TOL) "; euler: once a settling is refused, the rest of\n"
+	"                        the stage by such steps; default 0: none)\n"
+	"  --paper               the protocol's scheme as the suite ran it before (the\n"
+	"                        shipped samples): the paper's steps and T1 rule in\n"
+	"                        every stage (--dt 0.001 --dr 0.001 --quench euler\n"
+	"                        --implicit 0 --t1-again 0) with --ou-dt 0.01 --settle\n"
+	"                        1e-4; options after it override it\n"
 	"  --t1 L                T1 threshold length (default 0.01, 0: no T1s)\n"
 	"  --t1-new L            length of a junction made by a T1 (default 0.001)\n"
 	"  --threads N           cores to compute on (default: OMP_NUM_THREADS, else all)\n"
+	"  --t1-again F          a junction made by a T1 is T1'd again only once shorter\n"
+	"                        than F times --t1-new (default " STR(ANNEAL_T1AGAIN_DEFAULT) "; 0: as soon as it\n"
+	"                        shrinks, the paper's rule)\n"
 	"  -h, --help            this help\n"
 	"  --version             print the version\n";
 
@@ -84,7 +98,8 @@ static void parse_stage(struct opts *o, const char *arg)
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_SIGMA = 256, O_STAGE, O_RELAX, O_TAU, O_SEED, O_P0, O_KA, O_EVERY,
-	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_SETTLE, O_IMPLICIT, O_T1, O_T1NEW, O_VERSION };
+	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_SETTLE, O_IMPLICIT, O_T1, O_T1NEW, O_QUENCH, O_PAPER, O_T1AGAIN,
+	       O_VERSION };
 	static const struct option lo[] = {
 		{ "sigma", required_argument, NULL, O_SIGMA },
 		{ "stage", required_argument, NULL, O_STAGE },
@@ -101,6 +116,9 @@ static struct opts parse(int argc, char **argv)
 		{ "ou-dt", required_argument, NULL, O_OUDT },
 		{ "settle", required_argument, NULL, O_SETTLE },
 		{ "implicit", required_argument, NULL, O_IMPLICIT },
+		{ "quench", required_argument, NULL, O_QUENCH },
+		{ "paper", no_argument, NULL, O_PAPER },
+		{ "t1-again", required_argument, NULL, O_T1AGAIN },
 		{ "t1", required_argument, NULL, O_T1 },
 		{ "t1-new", required_argument, NULL, O_T1NEW },
 		{ "threads", required_argument, NULL, 'T' },
@@ -129,6 +147,16 @@ static struct opts parse(int argc, char **argv)
 		case O_OUDT: o.a.d.ou_dt = cli_double_range("--ou-dt", optarg, 0, 1e9); break;
 		case O_SETTLE: o.a.d.settle = cli_double_range("--settle", optarg, 0, 1e6); break;
 		case O_IMPLICIT: o.a.d.implicit = cli_double_range("--implicit", optarg, 0, 1); break;
+		case O_QUENCH:
+			if (strcmp(optarg, "adaptive") == 0)
+				o.a.d.quench = DYN_QUENCH_ADAPTIVE;
+			else if (strcmp(optarg, "euler") == 0)
+				o.a.d.quench = DYN_QUENCH_EULER;
+			else
+				cli_usage_error("--quench: expected euler or adaptive, got '%s'", optarg);
+			break;
+		case O_PAPER: anneal_opts_paper(&o.a); break;
+		case O_T1AGAIN: o.a.d.t1_again = cli_double_range("--t1-again", optarg, 0, 0.999); break;
 		case O_T1: o.a.d.t1_length = cli_double_range("--t1", optarg, 0, 0.5); break;
 		case O_T1NEW: o.a.d.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
 		case 'T': o.a.d.threads = cli_threads(optarg); break;

@@ -14,6 +14,20 @@ void anneal_opts_init(anneal_opts *o)
 	o->d.tau = 1;
 	o->d.settle = ANNEAL_SETTLE_DEFAULT;
 	o->d.ou_dt = ANNEAL_OUDT_DEFAULT;
+	o->d.dt_max = o->d.dr_max = ANNEAL_DT_DEFAULT;
+	o->d.t1_again = ANNEAL_T1AGAIN_DEFAULT;
+	o->d.quench = DYN_QUENCH_ADAPTIVE;
+}
+
+void anneal_opts_paper(anneal_opts *o)
+{
+	o->d.dt_max = 1e-3;
+	o->d.dr_max = 1e-3;
+	o->d.ou_dt = ANNEAL_PAPER_OUDT;
+	o->d.settle = ANNEAL_SETTLE_DEFAULT;
+	o->d.quench = DYN_QUENCH_EULER;
+	o->d.implicit = 0;
+	o->d.t1_again = 0;
 }
 
 void anneal_default_stages(anneal_opts *o, double quench)
@@ -49,6 +63,8 @@ void anneal_protocol(const anneal_opts *o, const model *p, char *buf, size_t n)
 	mesh_run_key_num(buf, n, "t1", o->d.t1_length);
 	mesh_run_key_num(buf, n, "t1_new", o->d.t1_new);
 	mesh_run_key_num(buf, n, "implicit", o->d.implicit);
+	mesh_run_key_num(buf, n, "t1_again", o->d.t1_again);
+	mesh_run_key(buf, n, "quench", o->d.quench == DYN_QUENCH_ADAPTIVE ? "adaptive" : "euler");
 	mesh_run_key_num(buf, n, "p0", p->p0);
 	mesh_run_key_num(buf, n, "ka", p->ka);
 }
@@ -140,6 +156,50 @@ static int run_to(struct run *u, double t_end, volatile sig_atomic_t *stop, anne
 	return r->why == ANNEAL_END_DONE;
 }
 
+/* With t1_again > 0 the junctions a T1 made that have not yet been
+ * longer than the threshold decide which T1s are done (dynamics.h), and
+ * dyn's state lines do not hold them: a stopped run lists them (in the
+ * integrator's numbering, which dyn_junctions restores). */
+static int fresh_save(const dyn *d, mesh *m)
+{
+	const unsigned char *f = dyn_fresh(d);
+	size_t cap = 16 * (size_t)(m->nj + 1), len = 0;
+	char *s = malloc(cap);
+	if (s == NULL)
+		return MESH_ENOMEM;
+	s[0] = '\0';
+	for (int j = 0; j < m->nj; j++)
+		if (f[j])
+			len += (size_t)snprintf(s + len, cap - len, len ? " %d" : "%d", j);
+	int st = len ? mesh_state_set(m, "anneal_fresh", s) : MESH_OK;
+	free(s);
+	return st;
+}
+
+static int fresh_load(dyn *d, mesh *m)
+{
+	const char *t = mesh_state_get(m, "anneal_fresh");
+	unsigned char *f = calloc((size_t)(m->nj ? m->nj : 1), 1);
+	if (f == NULL)
+		return MESH_ENOMEM;
+	int st = MESH_OK;
+	for (const char *p = t ? t : ""; *p && st == MESH_OK;) {
+		char *end;
+		long j = strtol(p, &end, 10);
+		if (end == p || j < 0 || j >= m->nj)
+			st = MESH_EINVAL;
+		else
+			f[j] = 1;
+		p = end;
+		while (*p == ' ')
+			p++;
+	}
+	if (st == MESH_OK)
+		dyn_set_fresh(d, f);
+	free(f);
+	return st;
+}
+
 int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
                volatile sig_atomic_t *stop, const anneal_io *io, anneal_result *r,
                mesh_error *err)
@@ -158,9 +218,15 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 		dyn_free(u.d);
 		return mesh_error_set(err, 0, MESH_EINVAL, "%s: %s", o->name ? o->name : "<mesh>", e2.msg);
 	}
+	if (continued && o->d.t1_again > 0 && fresh_load(u.d, m) != MESH_OK) {
+		dyn_free(u.d);
+		return mesh_error_set(err, 0, MESH_EINVAL, "%s: state anneal_fresh: not the state of "
+		                      "a tis run of this mesh", o->name ? o->name : "<mesh>");
+	}
 	/* used up: frames and the final mesh carry only a new one */
 	dyn_state_clear(m);
 	mesh_state_del(m, "run");
+	mesh_state_del(m, "anneal_fresh");
 	dyn_counts_get(u.d, &r->c0);
 	/* frames and log rows at the first step at or after each multiple of
 	 * their interval; a continued run goes on with the next one */
@@ -179,12 +245,19 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 	for (int i = 0; i < o->nstage && done; i++) {
 		u.s.stage = i;
 		dyn_options(u.d)->sigma = o->sig[i];
+		/* t1_again in the noisy stages only: in a quench, a four-fold
+		 * vertex whose two resolutions both shrink would cycle through
+		 * them at its own period for ever (a 324-cell quench never
+		 * settled in 8000 time units); the paper's rule lets the
+		 * steps decide it */
+		dyn_options(u.d)->t1_again = o->sig[i] > 0 ? o->d.t1_again : 0;
 		tcum += o->dur[i];
 		done = run_to(&u, tcum, stop, r, err, &st);
 	}
 	dyn_counts_get(u.d, &r->before_relax);
 	if (done && o->relax > 0) {
 		dyn_options(u.d)->sigma = 0;
+		dyn_options(u.d)->t1_again = 0;
 		tcum += o->relax;
 		u.s.stage = o->nstage;
 		done = run_to(&u, tcum, stop, r, err, &st);
@@ -204,7 +277,8 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 			/* a stopped run leaves what continuing it needs */
 			char proto[2048];
 			anneal_protocol(o, p, proto, sizeof proto);
-			if (dyn_state_save(u.d) != MESH_OK || mesh_run_mark(m, "tis-anneal", proto) != MESH_OK)
+			if (dyn_state_save(u.d) != MESH_OK || mesh_run_mark(m, "tis-anneal", proto) != MESH_OK ||
+			    (o->d.t1_again > 0 && fresh_save(u.d, m) != MESH_OK))
 				st = MESH_ENOMEM;
 			log_row(&u);
 		} else if (mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)
@@ -232,6 +306,9 @@ int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *
 	    o->d.dt_max, o->d.dr_max, o->seed, c->t, c->nstep, c->nt1);
 	if (c->nt1_refused)
 		ADD(", %ld refused", c->nt1_refused);
+	if (o->d.t1_again > 0)
+		ADD(" (in noisy stages a junction a T1 made T1'd again only below %g times its length)",
+		    o->d.t1_again);
 	if (o->d.ou_dt > 0)
 		ADD("; noise updated every %g", o->d.ou_dt);
 	else
@@ -240,10 +317,14 @@ int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *
 		ADD("; %ld sigma=0 stages finished by Newton minimization at fixed topology once max "
 		    "force and tension <= %g (settle), covering %.10g time units", c->nsettle,
 		    o->d.settle, c->t_settled);
+	if (o->d.quench == DYN_QUENCH_ADAPTIVE)
+		ADD("; adaptive quench: %ld explicit steps landed on a T1, %ld switches to implicit "
+		    "steps", c->nevent_expl, c->nswitch);
 	if (c->nimpl > 0 || c->nimpl_fail > 0)
 		ADD("; %ld implicit steps (local error <= %g, %ld solves, %ld landed on a T1, %ld "
-		    "taken explicitly) covering %.10g time units", c->nimpl, o->d.implicit, c->nsolve,
-		    c->nevent, c->nimpl_fail, c->t_implicit);
+		    "taken explicitly) covering %.10g time units", c->nimpl,
+		    o->d.implicit > 0 ? o->d.implicit : DYN_QUENCH_TOL, c->nsolve, c->nevent,
+		    c->nimpl_fail, c->t_implicit);
 	if (r->continued)
 		ADD("; continued from t %.10g", r->c0.t);
 	if (why)

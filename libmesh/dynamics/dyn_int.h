@@ -19,6 +19,8 @@ struct dyn {
 	double *l2;           /* nj: squared lengths at the start of the step */
 	double *lprev;        /* nj: l2 at the start of the previous step */
 	double *ldot;         /* nj: dl/dt (feedback mode) */
+	double *fa, *ra;      /* 2*nv: the adaptive quench's check (gradient
+	                         and coordinates along the step) */
 	unsigned char *active;/* nj flags or NULL (all) */
 	/* T1 candidates: the junctions that were shorter than t1_length +
 	 * margin when the list was made, plus those a T1 has moved since.  No

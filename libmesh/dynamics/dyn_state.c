@@ -71,9 +71,13 @@ int dyn_state_save(const dyn *d)
 	sb_printf(&b, "%a %ld %ld %ld %ld %a %ld %a %a %d", d->c.t, d->c.nstep, d->c.nt1,
 	          d->c.nt1_refused, d->c.nsettle, d->c.t_settled, d->nt1_sorted, d->ou_acc,
 	          d->fsettle, d->have_lprev);
-	if (d->o.implicit > 0 || d->impl)
+	if (d->o.implicit > 0 || d->impl || d->o.quench == DYN_QUENCH_ADAPTIVE)
 		sb_printf(&b, " %d %a %ld %ld %ld %ld %a", d->impl, d->h, d->c.nimpl, d->c.nsolve,
 		          d->c.nevent, d->c.nimpl_fail, d->c.t_implicit);
+	/* the adaptive quench's own counts, only then: the text of the other
+	 * schemes stays as it was */
+	if (d->o.quench == DYN_QUENCH_ADAPTIVE)
+		sb_printf(&b, " %ld %ld", d->c.nevent_expl, d->c.nswitch);
 	if ((st = sb_set(m, "dyn_run", &b)) != MESH_OK)
 		return st;
 	if (d->noise) {
@@ -248,7 +252,13 @@ int dyn_state_load(dyn *d, mesh_error *err)
 	if (run[used] != '\0' &&
 	    (sscanf(run + used, " %d %la %ld %ld %ld %ld %la%n", &impl, &h, &c.nimpl, &c.nsolve,
 	            &c.nevent, &c.nimpl_fail, &c.t_implicit, &u2) != 7 ||
-	     run[used + u2] != '\0' || !(h >= 0 && isfinite(h)) || !isfinite(c.t_implicit)))
+	     !(h >= 0 && isfinite(h)) || !isfinite(c.t_implicit)))
+		return bad(err, "dyn_run");
+	used += u2;
+	int u3 = 0;
+	if (run[used] != '\0' &&
+	    (sscanf(run + used, " %ld %ld%n", &c.nevent_expl, &c.nswitch, &u3) != 2 ||
+	     run[used + u3] != '\0'))
 		return bad(err, "dyn_run");
 	const char *rng = mesh_state_get(m, "dyn_rng");
 	if (rng) {

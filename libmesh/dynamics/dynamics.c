@@ -8,6 +8,7 @@
 
 #include "gradflow.h"
 #include "invariants.h"
+#include "jevent.h"
 #include "minimize.h"
 #include "noise.h"
 #include "topology.h"
@@ -21,7 +22,8 @@ void dyn_opts_init(dyn_opts *o)
 	*o = (dyn_opts){ .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0.01,
 			 .t1_new = 1e-3, .tau = 1, .sigma = 0, .mode = DYN_OU,
 			 .gamma0 = 0, .l_stop = 1e-6, .ou_dt = 0, .settle = 0,
-			 .t1_again = 0, .split = 0, .implicit = 0, .threads = 1 };
+			 .t1_again = 0, .split = 0, .implicit = 0, .threads = 1,
+			 .quench = DYN_QUENCH_EULER };
 }
 
 static int check_opts(const dyn_opts *o, mesh_error *err)
@@ -43,6 +45,8 @@ static int check_opts(const dyn_opts *o, mesh_error *err)
 		return mesh_error_set(err, 0, MESH_EDOM, "implicit must be non-negative");
 	if (o->threads < 1 || o->threads > ENERGY_MAXTHREADS)
 		return mesh_error_set(err, 0, MESH_EDOM, "threads must be in 1..%d", ENERGY_MAXTHREADS);
+	if (o->quench != DYN_QUENCH_EULER && o->quench != DYN_QUENCH_ADAPTIVE)
+		return mesh_error_set(err, 0, MESH_EDOM, "unknown quench scheme");
 	if (!(o->tau > 0 && isfinite(o->tau)) || !(o->sigma >= 0 && isfinite(o->sigma)) ||
 	    !isfinite(o->gamma0))
 		return mesh_error_set(err, 0, MESH_EDOM, "tau must be positive, sigma non-negative");
@@ -97,6 +101,8 @@ void dyn_free(dyn *d)
 	free(d->lprev);
 	free(d->l2);
 	free(d->ldot);
+	free(d->fa);
+	free(d->ra);
 	free(d->cand);
 	free(d->incand);
 	free(d->fresh);
@@ -444,13 +450,14 @@ static double trial_lmax(const dyn *d, const double *f, double dt, int *jlong)
  * in d->f: 1 taken (time, counts and displacement bounds updated), 0 not
  * (no step size accepted: the caller steps explicitly), or minus a status
  * (err set). */
-static int implicit_step(dyn *d, double t_end, double fmax, double lhalf, mesh_error *err)
+static int implicit_step(dyn *d, double t_end, double fmax, double lhalf, double tol,
+                         mesh_error *err)
 {
 	const dyn_opts *o = &d->o;
-	gf_opts go = { .tol = o->implicit, .lev = o->t1_length > 0 ? o->t1_length : o->l_stop,
+	gf_opts go = { .tol = tol, .lev = o->t1_length > 0 ? o->t1_length : o->l_stop,
 		       .hmax = t_end - d->c.t, .lhalf = lhalf };
 	if (!(d->h > 0))
-		d->h = fmax > 0 ? o->implicit / fmax : go.hmax;
+		d->h = fmax > 0 ? tol / fmax : go.hmax;
 	gf_report gr;
 	int st = gf_step(d->m, &d->p, d->f, &go, &d->h, &gr);
 	d->c.nsolve += gr.nsolve;
@@ -472,6 +479,75 @@ static int implicit_step(dyn *d, double t_end, double fmax, double lhalf, mesh_e
 	return 1;
 }
 
+/* The adaptive quench's explicit step dt from d->f: shortened to the
+ * first event, a candidate junction falling through the threshold from
+ * above (jevent_linear on the step's linear motion); *ev says so. */
+static double event_dt(dyn *d, double dt, int *ev)
+{
+	const mesh *m = d->m;
+	const double *r = m->r, *f = d->f;
+	double smin = INFINITY;
+	*ev = 0;
+	for (int k = 0; k < d->ncand; k++) {
+		int j = d->cand[k];
+		int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+		double d0[2] = { r[2 * b] - r[2 * a] + m->jimg[2 * j],
+				 r[2 * b + 1] - r[2 * a + 1] + m->jimg[2 * j + 1] };
+		double dd[2] = { -dt * (f[2 * b] - f[2 * a]), -dt * (f[2 * b + 1] - f[2 * a + 1]) };
+		double s = jevent_linear(d0, dd, d->o.t1_length, GF_WINDOW);
+		smin = s < smin ? s : smin;
+	}
+	if (smin < 1) {
+		*ev = 1;
+		return dt * smin;
+	}
+	return dt;
+}
+
+/* The adaptive quench's check: the implicit step that the local error
+ * allows from here, min over the vertices of sqrt(2 tol_v / |r''_v|),
+ * r'' = H grad W by a finite difference of the gradient along -f
+ * (d->f holds grad W at the coordinates); tol_v is tol capped at
+ * GF_LFRAC of the vertex's shortest junction (the candidates are the only
+ * junctions short enough to matter for tol <= 1e-3).  -1: out of memory. */
+static double check_h(dyn *d, double tol, double fmax)
+{
+	mesh *m = d->m;
+	const int nv = m->nv;
+	if (d->fa == NULL) {
+		d->fa = malloc(2 * (size_t)nv * sizeof *d->fa);
+		d->ra = malloc(2 * (size_t)nv * sizeof *d->ra);
+		if (d->fa == NULL || d->ra == NULL)
+			return -1;
+	}
+	/* moves of 1e-6: far below every length, far above rounding */
+	double eps = 1e-6 / fmax;
+	for (int i = 0; i < 2 * nv; i++)
+		d->ra[i] = m->r[i] - eps * d->f[i];
+	mesh_energy_force(m, d->ra, &d->p, NULL, d->fa, NULL, d->ws);
+	/* ra now holds the per-vertex tolerances squared */
+	for (int v = 0; v < nv; v++)
+		d->ra[v] = tol * tol;
+	for (int k = 0; k < d->ncand; k++) {
+		int j = d->cand[k];
+		double c2 = GF_LFRAC * GF_LFRAC * d->l2[j];
+		int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+		d->ra[a] = c2 < d->ra[a] ? c2 : d->ra[a];
+		d->ra[b] = c2 < d->ra[b] ? c2 : d->ra[b];
+	}
+	double h2 = INFINITY;
+	for (int v = 0; v < nv; v++) {
+		double ax = (d->fa[2 * v] - d->f[2 * v]) / eps, ay = (d->fa[2 * v + 1] - d->f[2 * v + 1]) / eps;
+		double a2 = ax * ax + ay * ay;
+		if (a2 > 0) {
+			/* h^2 = 2 tol / |a|: h^4 = 4 tol^2 / a^2 */
+			double q = 4 * d->ra[v] / a2;
+			h2 = q < h2 ? q : h2;
+		}
+	}
+	return sqrt(sqrt(h2));
+}
+
 int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
             dyn_observer obs, void *data, mesh_error *err)
 {
@@ -483,6 +559,8 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 	const dyn_opts o = d->o;
 	const int feedback = o.mode == DYN_FEEDBACK;
 	const int t1on = o.t1_length > 0;
+	const int adaptive = o.quench == DYN_QUENCH_ADAPTIVE && o.sigma == 0 && !feedback;
+	const double qtol = o.implicit > 0 ? o.implicit : DYN_QUENCH_TOL;
 	if ((o.sigma > 0 || feedback) && m->dg == NULL && mesh_tension_alloc(m) != MESH_OK)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	if (o.sigma > 0 && d->noise == NULL && (d->noise = ou_alloc(d->seed)) == NULL)
@@ -523,6 +601,10 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 					fsettle = o.settle;
 					d->h = 0;   /* the forces jumped */
 				}
+				/* the adaptive quench steps explicitly through the
+				 * fast relaxation a T1 starts */
+				if (d->c.nt1 > nt1 && adaptive)
+					d->impl = 0;
 				/* a T1 moves its two vertices by at most half the
 				 * old length plus half the new: the bound on the
 				 * junctions' growth takes that instead of every
@@ -566,7 +648,7 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				break;
 			}
 			fsettle *= 0.01;
-			if (o.implicit > 0 && !d->impl) {
+			if (o.implicit > 0 && !d->impl && !adaptive) {
 				/* the rest of the stage implicitly; the tensions
 				 * dropped as settling drops them */
 				d->impl = 1;
@@ -576,8 +658,22 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			}
 		}
 		d->fsettle = fsettle;
-		if (d->impl && fsettle > 0) {
-			int taken = implicit_step(d, t_end, fmax, lhalf, err);
+		if (adaptive && !d->impl && fmax > 0 && d->c.nstep % DYN_QUENCH_CHECK == 0 &&
+		    tensions_below(m, 0.01 * qtol)) {
+			double dt0 = fmin(fmin(o.dt_max, DYN_QUENCH_DT), fmin(o.dr_max, DYN_QUENCH_DT) / fmax);
+			double h = check_h(d, qtol, fmax);
+			if (h < 0)
+				return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+			if (h >= DYN_QUENCH_SWITCH * dt0) {
+				d->impl = 1;
+				d->h = h;
+				d->c.nswitch++;
+				free(m->dg);
+				m->dg = NULL;
+			}
+		}
+		if (d->impl && (fsettle > 0 || adaptive)) {
+			int taken = implicit_step(d, t_end, fmax, lhalf, qtol, err);
 			if (taken < 0)
 				return -taken;
 			if (taken) {
@@ -589,13 +685,22 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 				continue;
 			}
 		}
-		double dt = o.dt_max;
-		if (fmax * dt > o.dr_max)
-			dt = o.dr_max / fmax;
+		double dt = adaptive ? fmin(o.dt_max, DYN_QUENCH_DT) : o.dt_max;
+		double drm = adaptive ? fmin(o.dr_max, DYN_QUENCH_DT) : o.dr_max;
+		if (fmax * dt > drm)
+			dt = drm / fmax;
 		int last = 0;
 		if (dt >= t_end - d->c.t) {
 			dt = t_end - d->c.t;
 			last = 1;
+		}
+		if (adaptive && t1on) {
+			int ev;
+			dt = event_dt(d, dt, &ev);
+			if (ev) {
+				last = 0;
+				d->c.nevent_expl++;
+			}
 		}
 		if (!d->lmax_ok || d->lmax + 2 * (d->ldisp + dt * fmax) >= lhalf) {
 			int jl;
@@ -640,7 +745,11 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 		d->disp += dt * fmax;
 		d->ldisp += dt * fmax;
 		if (dg) {
-			if (o.ou_dt == 0) {
+			/* the adaptive quench decays what is left of the tensions
+			 * at every step (no random numbers: nothing to save by a
+			 * coarse grid, and held tensions would make the quench's
+			 * first moments, and its T1s, depend on ou_dt) */
+			if (o.ou_dt == 0 || adaptive) {
 				ou_step(d->noise, dg, nj, d->active, dt, o.tau, o.sigma);
 			} else {
 				/* exact OU over the time since the last update, the

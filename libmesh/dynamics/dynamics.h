@@ -59,6 +59,24 @@
  * tried is taken explicitly.  The trajectory is the flow's to within the
  * tolerance, not the explicit steps' bits: bench/RESULTS.md measures the
  * difference.
+ *
+ * Adaptive quench (quench = DYN_QUENCH_ADAPTIVE): a stage without noise
+ * or feedback is integrated as the gradient flow it is, with T1s located
+ * as events (jevent.h) instead of at the end of the step that crossed the
+ * threshold, and with implicit steps once the flow is slow.  Explicit
+ * steps (dt_max, dr_max as above, at most DYN_QUENCH_DT) are shortened so that a junction
+ * crossing t1_length from above ends the step within GF_WINDOW below it,
+ * and the T1 rule then flips it at the event.  Every DYN_QUENCH_CHECK
+ * explicit steps the second derivative of the flow, r'' = H grad W, is
+ * measured by a finite difference of the gradient along the step; once
+ * the backward Euler step its error allows, min over the vertices of
+ * sqrt(2 tol_v / |r''_v|) (tol_v as gradflow.h caps it), is
+ * DYN_QUENCH_SWITCH times the explicit step or more, and every tension is
+ * below tol / 100 (they are dropped then, as settling drops them), the
+ * stage goes on by implicit steps (gradflow.h, starting at that step),
+ * until a T1, after which it steps explicitly again until the check says
+ * otherwise.  Settling ends the stage as above.  Nothing of this depends
+ * on anything but the state, so a stopped run continues to the bit.
  */
 #ifndef TIS_DYNAMICS_H
 #define TIS_DYNAMICS_H
@@ -73,6 +91,23 @@ typedef enum {
 	DYN_OU,        /* pure Ornstein-Uhlenbeck tensions (sample preparation) */
 	DYN_FEEDBACK   /* tension feedback of paper eq. 1, plus optional noise */
 } dyn_mode;
+
+enum { DYN_QUENCH_EULER, DYN_QUENCH_ADAPTIVE };
+
+/* The adaptive quench's local error when dyn_opts.implicit is 0
+ * (bench/RESULTS.md), and its switch: implicit steps once they may be
+ * DYN_QUENCH_SWITCH times as long as the explicit ones, judged every
+ * DYN_QUENCH_CHECK explicit steps. */
+#define DYN_QUENCH_TOL 1e-3
+/* The adaptive quench's explicit steps are at most this long and move no
+ * vertex further (the paper's dt and dr): a longer dt_max, as a noisy
+ * stage may take while its forces keep the steps short through dr_max,
+ * is not stable for the stiffest modes once the forces are small (at dt
+ * 0.004 a 324-cell quench jitters at max force ~1e-2 for thousands of
+ * time units). */
+#define DYN_QUENCH_DT 1e-3
+#define DYN_QUENCH_SWITCH 200
+#define DYN_QUENCH_CHECK 64
 
 typedef struct {
 	double dt_max;     /* longest time step (1e-3) */
@@ -109,6 +144,12 @@ typedef struct {
 	double implicit;   /* 0 (default): explicit steps throughout.  > 0: the
 	                      local error tolerance (length) of the implicit
 	                      steps after a refused settling (above) */
+	int quench;        /* DYN_QUENCH_EULER (0, the default): a stage
+	                      without noise or feedback is stepped like any
+	                      other (the paper's scheme).  DYN_QUENCH_ADAPTIVE:
+	                      its steps are chosen by error ("Adaptive
+	                      quench" above), with local error implicit (or
+	                      DYN_QUENCH_TOL if implicit is 0) */
 	int split;         /* DYN_FEEDBACK.  0 (default, the paper's): the
 	                      feedback term by Euler, -dt (gamma0 + dg) ldot/l
 	                      with ldot from the step's forces.  1: the vertices
@@ -141,6 +182,10 @@ typedef struct {
 	long nimpl;        /* implicit steps taken (implicit > 0) */
 	long nsolve;       /* their minimizations, rejected ones included */
 	long nevent;       /* implicit steps shortened to land on a T1 */
+	long nevent_expl;  /* explicit steps shortened to land on a T1
+	                      (DYN_QUENCH_ADAPTIVE) */
+	long nswitch;      /* DYN_QUENCH_ADAPTIVE: switches from explicit to
+	                      implicit steps */
 	long nimpl_fail;   /* steps taken explicitly in implicit mode because
 	                      no implicit step was accepted */
 	double t_implicit; /* time covered by implicit steps */

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "jevent.h"
 #include "minimize.h"
 
 /* Vector d of junction j (junction_vec) and its squared length, the
@@ -43,22 +44,30 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 	size_t nr = 2 * (size_t)(nv ? nv : 1), nq = (size_t)(nj ? nj : 1);
 	double *r0 = malloc(nr * sizeof *r0);
 	double *q0 = malloc(3 * nq * sizeof *q0);   /* squared length, vector */
-	if (r0 == NULL || q0 == NULL) {
+	double *cap = malloc((nr / 2) * sizeof *cap);
+	if (r0 == NULL || q0 == NULL || cap == NULL) {
 		free(r0);
 		free(q0);
+		free(cap);
 		return MESH_ENOMEM;
 	}
 	memcpy(r0, m->r, nr * sizeof *r0);
-	double q0min = INFINITY;
+	for (int v = 0; v < nv; v++)
+		cap[v] = o->tol;
+	double tol = o->tol;
 	for (int j = 0; j < nj; j++) {
 		q0[3 * j] = jvec2(m, r0, j, q0 + 3 * j + 1);
-		q0min = fmin(q0min, q0[3 * j]);
+		/* an error of the order of a junction's length would get its
+		 * direction of motion wrong (a junction just made by a T1 is
+		 * 1e-3 long, and stepping flips it back if it shrinks): each
+		 * vertex's error at most GF_LFRAC of its shortest junction */
+		double c = GF_LFRAC * sqrt(q0[3 * j]);
+		int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+		cap[a] = fmin(cap[a], c);
+		cap[b] = fmin(cap[b], c);
+		tol = fmin(tol, c);
 	}
-	/* an error of the order of a junction's length would get its
-	 * direction of motion wrong (a junction just made by a T1 is 1e-3
-	 * long, and stepping flips it back if it shrinks) */
-	const double tol = fmin(o->tol, GF_LFRAC * sqrt(q0min));
-	const double lev2 = o->lev * o->lev, lo2 = (1 - GF_WINDOW) * (1 - GF_WINDOW);
+	const double lev2 = o->lev * o->lev;
 	double gmax = grad_max_norm(nv, g);
 	double hh = fmin(*h, o->hmax), hcross = INFINITY;
 	int st = MESH_ENOCONV;
@@ -77,18 +86,20 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 		}
 		/* the error estimate; the displacement is unwrapped (prox keeps
 		 * the coordinates of the start) */
-		double e2 = 0, d2 = 0;
+		double e2 = 0, d2 = 0, rat2 = 0;
 		for (int v = 0; v < nv; v++) {
 			double dx = m->r[2 * v] - r0[2 * v], dy = m->r[2 * v + 1] - r0[2 * v + 1];
 			double ex = dx + hh * g[2 * v], ey = dy + hh * g[2 * v + 1];
-			e2 = fmax(e2, ex * ex + ey * ey);
+			double q = ex * ex + ey * ey;
+			e2 = fmax(e2, q);
+			rat2 = fmax(rat2, q / (cap[v] * cap[v]));
 			d2 = fmax(d2, dx * dx + dy * dy);
 		}
-		double err = 0.5 * sqrt(e2);
-		if (!(err <= tol)) {
+		double err = 0.5 * sqrt(e2), rat = 0.5 * sqrt(rat2);   /* err / cap, worst vertex */
+		if (!(rat <= 1)) {
 			memcpy(m->r, r0, nr * sizeof *r0);
 			rep->nreject++;
-			hh *= isfinite(err) ? clamp(0.9 * sqrt(tol / err), 0.1, 0.5) : 0.1;
+			hh *= isfinite(rat) ? clamp(0.9 * sqrt(1 / rat), 0.1, 0.5) : 0.1;
 			continue;
 		}
 		/* events: the first junction to reach its event length e, by
@@ -102,17 +113,11 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 			int over = dx * q0[3 * j + 1] + dy * q0[3 * j + 2] <= 0;
 			if (!(q < e) && !over)
 				continue;
-			double s;
-			if (over) {
-				s = 0.5;
-			} else {
-				double l0 = sqrt(q0[3 * j]), l1 = sqrt(q), le = sqrt(e);
-				s = (l0 - le * (1 - 0.5 * GF_WINDOW)) / (l0 - l1);
-			}
+			double s = over ? 0.5 : jevent_secant(sqrt(q0[3 * j]), sqrt(q), sqrt(e), GF_WINDOW);
 			if (s < smin || (s == smin && j < jev)) {
 				smin = s;
 				jev = j;
-				inwin = !over && q >= e * lo2;
+				inwin = !over && jevent_landed(sqrt(q), sqrt(e), GF_WINDOW);
 			}
 		}
 		if (!(l2max < o->lhalf * o->lhalf)) {
@@ -136,7 +141,7 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 		rep->event = jev >= 0;
 		/* the next step: by the error, and no further than a crossing
 		 * seen in this call (the secant will be tried again from here) */
-		double grow = err > 0 ? clamp(0.9 * sqrt(tol / err), 0.2, 4) : 4;
+		double grow = rat > 0 ? clamp(0.9 * sqrt(1 / rat), 0.2, 4) : 4;
 		*h = fmin(hh * grow, hcross - hh < INFINITY ? fmax(hcross - hh, 1e-3 * hh) : INFINITY);
 		st = MESH_OK;
 		break;
@@ -145,5 +150,6 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 		memcpy(m->r, r0, nr * sizeof *r0);
 	free(r0);
 	free(q0);
+	free(cap);
 	return st;
 }

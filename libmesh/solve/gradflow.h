@@ -19,18 +19,21 @@
  * r_n - h grad W(r_n) (each differs from the exact flow by about
  * h^2/2 |r''|, with opposite signs); a step is accepted when that is at
  * most tol, and the next step is h 0.9 sqrt(tol/err), within [0.2 h, 4 h].
- * The tolerance is at most GF_LFRAC times the shortest junction at the
- * start of the step: an error of the order of a junction's length gets
- * its motion wrong, and the junction a T1 makes (1e-3 long) is flipped
- * back if it shrinks.
+ * At each vertex the tolerance is at most GF_LFRAC times its shortest
+ * junction at the start of the step (the error and the next step are
+ * judged by the worst ratio of a vertex's error to its tolerance): an
+ * error of the order of a junction's length gets its motion wrong, and
+ * the junction a T1 makes (1e-3 long) is flipped back if it shrinks;
+ * elsewhere in the tissue the step need not be that accurate.
  *
  * Events: the caller flips a junction that is below the threshold lev and
  * shorter than at the previous step (the T1 rule of dynamics.h).  A step
  * that would carry a junction from at least lev to below it, or shorten
  * one that starts below lev, or turn one over, is shortened (secant on
  * that junction's length as a function of h, the first such junction by
- * the secant's estimate) until that junction ends in [e (1 - GF_WINDOW),
- * e), e = lev or its starting length if that is shorter.  The shortened
+ * the secant's estimate, jevent.h) until that junction ends in
+ * [e (1 - GF_WINDOW), e), e = lev or its starting length if that is
+ * shorter.  The shortened
  * step is accepted and reported as an event: the caller's T1 test then
  * flips it as stepping would, within GF_WINDOW of where stepping would.
  * A junction that dips below lev and comes back within one step is not
