@@ -3,7 +3,7 @@
 # several junctions, interruption and continuation.  Short runs on 6x6.
 . "$(dirname "$0")/lib.sh"
 
-plan 59
+plan 63
 
 tis-hex 6 6 --p0 3.65 >"$T/hex.mesh" || exit 1
 H="$T/hex.mesh"
@@ -24,6 +24,10 @@ fails_with 2 "--trace without %d for several junctions" tis-active --random 2 --
 fails_with 1 "--junction that does not exist" tis-active --junction 0 40 "$H"
 fails_with 1 "--junction vertex out of range" tis-active --junction 0 9999 "$H"
 fails_with 1 "--index out of range" tis-active --index 108 "$H"
+fails_with 2 "--regular 0" tis-active --regular 0 "$H"
+fails_with 2 "--regular with --random" tis-active --regular 2 --random 2 "$H"
+fails_with 1 "--regular: more than the mesh has" tis-active --regular 109 "$H"
+ok "--regular: rows for the junctions drawn among the regular ones" sh -c "tis-active --regular 3 --seed 2 --time 0.5 $A '$H' | grep -v '^#' | sed 1d | wc -l | grep -qx 3"
 printf '0 1\nbad line\n' >"$T/list"
 fails_with 1 "--list with a bad line" tis-active --list "$T/list" "$H"
 awk '/^vertices/ { print; getline; $1 += 0.01 } { print }' "$H" >"$T/moved.mesh"

@@ -1,12 +1,16 @@
 /* junction_select: each kind names what the function for that kind names
  * (the same junctions, the same errors), JSEL_ALL every junction in order,
- * JSEL_NONE refused; a list file by pair and by index. */
+ * JSEL_NONE refused; a list file by pair and by index.  The locally
+ * regular junctions against a second, brute-force reading of the rule
+ * (cells found by scanning every cell's vertex list, not through the
+ * junction tables), on a honeycomb with and without a defect. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "lattice.h"
 #include "select.h"
+#include "topology.h"
 #include "tap.h"
 
 static int same(const int *a, int na, const int *b, int nb)
@@ -14,9 +18,85 @@ static int same(const int *a, int na, const int *b, int nb)
 	return na == nb && memcmp(a, b, (size_t)na * sizeof *a) == 0;
 }
 
+static int has(const mesh *m, int c, int v)
+{
+	for (int i = m->coff[c]; i < m->coff[c + 1]; i++)
+		if (m->cv[i] == v)
+			return 1;
+	return 0;
+}
+
+/* The rule of select.h read directly: the cells holding vertex a or b
+ * are four hexagons, and every cell sharing a vertex with one of them
+ * is a hexagon (in a tissue of three-fold vertices, sharing a vertex is
+ * sharing a junction). */
+static int regular_brute(const mesh *m, int j)
+{
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1], nt = 0, t[8];
+	for (int c = 0; c < m->nc; c++)
+		if (has(m, c, a) || has(m, c, b)) {
+			if (nt == 8)
+				return 0;
+			t[nt++] = c;
+		}
+	if (nt != 4)
+		return 0;
+	for (int k = 0; k < 4; k++)
+		for (int i = m->coff[t[k]]; i < m->coff[t[k] + 1]; i++)
+			for (int c = 0; c < m->nc; c++)
+				if (has(m, c, m->cv[i]) && m->coff[c + 1] - m->coff[c] != 6)
+					return 0;
+	return 1;
+}
+
+static void regular_tests(void)
+{
+	mesh *m;
+	mesh_error err;
+	if (lattice_honeycomb(8, 8, &m, &err) != MESH_OK)
+		return;
+	unsigned char *reg = malloc((size_t)m->nj);
+	ok(junction_regular_all(m, reg) == m->nj, "regular: every junction of a honeycomb");
+	/* a T1 makes two pentagons and two heptagons around junction 0 */
+	int st = mesh_t1(m, 0, 0.1, &err);
+	int nreg = junction_regular_all(m, reg), agree = st == MESH_OK, nbrute = 0;
+	for (int j = 0; agree && j < m->nj; j++) {
+		int r = regular_brute(m, j);
+		nbrute += r;
+		agree = reg[j] == r && junction_regular(m, j) == r;
+	}
+	ok(agree && nreg == nbrute && nreg > 0 && nreg < m->nj - 40,
+	   "regular after a T1: the brute-force rule on every junction (%d of %d regular)", nreg,
+	   m->nj);
+	int *s, n, *t, k;
+	jsel js = { .kind = JSEL_REGULAR, .count = 20, .seed = 5 };
+	st = junction_select(m, &js, &s, &n, &err);
+	int good = st == MESH_OK && n == 20;
+	for (int i = 0; good && i < n; i++)
+		good = regular_brute(m, s[i]) && (i == 0 || s[i] > s[i - 1]);
+	ok(good, "regular: 20 drawn, ascending, each with the neighbourhood it claims");
+	ok(junction_select_regular(m, 20, 5, &t, &k, &err) == MESH_OK && same(s, n, t, k),
+	   "regular: the same draw for the same seed");
+	free(s);
+	free(t);
+	js.count = nreg;
+	st = junction_select(m, &js, &s, &n, &err);
+	good = st == MESH_OK && n == nreg;
+	for (int i = 0, j = 0; good && j < m->nj; j++)
+		if (reg[j])
+			good = s[i++] == j;
+	ok(good, "regular: asking for all of them gives every one, in order");
+	free(s);
+	js.count = nreg + 1;
+	ok(junction_select(m, &js, &s, &n, &err) == MESH_EINVAL && strstr(err.msg, "--regular"),
+	   "regular: more than there are is refused: %s", err.msg);
+	free(reg);
+	mesh_free(m);
+}
+
 int main(void)
 {
-	tap_plan(10);
+	tap_plan(16);
 	mesh *m;
 	mesh_error err;
 	if (lattice_honeycomb(4, 4, &m, &err) != MESH_OK)
@@ -71,5 +151,6 @@ int main(void)
 	js.kind = (jsel_kind)99;
 	ok(junction_select(m, &js, &s, &n, &err) == MESH_EINVAL, "an unknown kind: refused");
 	mesh_free(m);
+	regular_tests();
 	return tap_done();
 }

@@ -573,7 +573,8 @@ void cli_jsel(jsel *js, const char *name, int again, const char *choose, int arg
 	jsel_kind kind = strcmp(name, "junction") == 0 ? JSEL_PAIR
 	               : strcmp(name, "index") == 0 ? JSEL_INDEX
 	               : strcmp(name, "random") == 0 ? JSEL_RANDOM
-	               : strcmp(name, "list") == 0 ? JSEL_LIST : JSEL_ALL;
+	               : strcmp(name, "list") == 0 ? JSEL_LIST
+	               : strcmp(name, "regular") == 0 ? JSEL_REGULAR : JSEL_ALL;
 	if (js->kind != JSEL_NONE && !(again && js->kind == kind))
 		cli_usage_error("%s", choose);
 	js->kind = kind;
@@ -581,8 +582,8 @@ void cli_jsel(jsel *js, const char *name, int again, const char *choose, int arg
 		cli_vertex_pair("--junction", argc, argv, &js->a, &js->b);
 	else if (kind == JSEL_INDEX)
 		js->index = cli_long("--index", optarg, 0, 2000000000);
-	else if (kind == JSEL_RANDOM)
-		js->count = cli_long("--random", optarg, 1, 2000000000);
+	else if (kind == JSEL_RANDOM || kind == JSEL_REGULAR)
+		js->count = cli_long(kind == JSEL_RANDOM ? "--random" : "--regular", optarg, 1, 2000000000);
 	else if (kind == JSEL_LIST)
 		js->path = optarg;
 }

@@ -111,7 +111,7 @@ int cli_progress_due(cli_progress *pr, int force);
 
 /* A junction option (select.h) inside a getopt_long loop, by its long
  * name: "junction" A B (JSEL_PAIR; B is the next argument), "index" K,
- * "random" K, "list" FILE, any other name every junction (JSEL_ALL:
+ * "random" K, "list" FILE, "regular" K, any other name every junction (JSEL_ALL:
  * --all, --network).  A second choice is a usage error with the message
  * choose, unless again is set and it is the same kind (the last value
  * counts). */

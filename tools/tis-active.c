@@ -14,7 +14,7 @@
 #define STR(x) STR_(x)
 
 static const char usage[] =
-	"(--junction A B | --index K | --random K | --list FILE | --network)\n"
+	"(--junction A B | --index K | --random K | --regular K | --list FILE | --network)\n"
 	"       [--rate R | --tau T] [--gamma0 G] [--sigma S] [--p0 X] [--ka Y] [--time T]\n"
 	"       [--perturb EPS] [--seed N] [--scheme dp5|bs3|bdf|euler|split] [--rtol X]\n"
 	"       [--checkpoint T] [--ou-dt H] [--dt DT] [--dr DR] [--t1 L] [--t1-new L]\n"
@@ -24,12 +24,13 @@ static const char help[] =
 	"Integrate active junction tensions (paper eq. 1) with the overdamped vertex\n"
 	"dynamics (eq. 2) from a force-free mesh plus a small random perturbation of\n"
 	"every degree of freedom, or from the tensions a mesh carries.  One junction:\n"
-	"the final mesh to stdout.  Several (--random, --list): each from the same\n"
+	"the final mesh to stdout.  Several (--random, --regular, --list): each from the same\n"
 	"input, one TSV row per junction to stdout.  See tis-active(1).\n"
 	"\n"
 	"  --junction A B     the junction joining vertices A and B\n"
 	"  --index K          junction number K\n"
 	"  --random K         K junctions drawn without replacement (--seed)\n"
+	"  --regular K        K drawn from the locally regular ones (tis-active(1))\n"
 	"  --list FILE        junctions from FILE: 'A B' or 'K' lines\n"
 	"  --network          every junction active (T1s on)\n"
 	"  --rate R, --tau T  myosin turnover rate 1/tau_m (default 1)\n"
@@ -82,13 +83,14 @@ struct opts {
 
 static struct opts parse(int argc, char **argv)
 {
-	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
+	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_REGULAR, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
 	       O_SIGMA, O_P0, O_KA, O_TIME, O_PERTURB, O_SEED, O_SCHEME, O_RTOL, O_CHECKPOINT, O_DT, O_DR,
 	       O_T1, O_T1NEW, O_T1AGAIN, O_T1REARM, O_OUDT, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_WATCH, O_EVENTS, O_EVERY, O_VERSION };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "index", required_argument, NULL, O_INDEX },
 		{ "random", required_argument, NULL, O_RANDOM },
+		{ "regular", required_argument, NULL, O_REGULAR },
 		{ "list", required_argument, NULL, O_LIST },
 		{ "network", no_argument, NULL, O_NET },
 		{ "rate", required_argument, NULL, O_RATE },
@@ -127,9 +129,9 @@ static struct opts parse(int argc, char **argv)
 	int c, li;
 	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
 		switch (c) {
-		case O_JUNCTION: case O_INDEX: case O_RANDOM: case O_LIST: case O_NET:
+		case O_JUNCTION: case O_INDEX: case O_RANDOM: case O_REGULAR: case O_LIST: case O_NET:
 			cli_jsel(&o.js, lo[li].name, 0,
-			         "choose one of --junction, --index, --random, --list, --network", argc, argv);
+			         "choose one of --junction, --index, --random, --regular, --list, --network", argc, argv);
 			break;
 		case O_RATE: o.a.tau = 1 / cli_double_range("--rate", optarg, 1e-9, 1e9); break;
 		case O_TAU: o.a.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
@@ -167,7 +169,7 @@ static struct opts parse(int argc, char **argv)
 		}
 	}
 	if (o.js.kind == JSEL_NONE)
-		cli_usage_error("choose junctions with --junction, --index, --random, --list or --network");
+		cli_usage_error("choose junctions with --junction, --index, --random, --regular, --list or --network");
 	if (argc - optind > 1)
 		cli_usage_error("at most one input file");
 	o.input = optind < argc ? argv[optind] : NULL;
@@ -185,11 +187,11 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("--t1-rearm must be 0 or at least the T1 threshold");
 	if (act_scheme_dense(o.a.scheme) && o.a.t1_length > 0 && o.a.t1_again == 0)
 		cli_usage_error("--t1-again 0 (flip back at once) is for euler and split only");
-	int multi = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_LIST;
+	int multi = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_REGULAR || o.js.kind == JSEL_LIST;
 	if (o.jo.nwatch && !network)
 		cli_usage_error("--watch is for --network");
 	if (multi && o.jo.every > 0)
-		cli_usage_error("--every writes frames of one run: not with --random or --list");
+		cli_usage_error("--every writes frames of one run: not with --random, --regular or --list");
 	if (multi && o.trace && !cli_one_d(o.trace))
 		cli_usage_error("--trace with several junctions needs one %%d in the file name");
 	if (multi && o.events && !cli_one_d(o.events))

@@ -44,6 +44,27 @@ int junction_select_index(const mesh *m, long k, int **sel, int *n, mesh_error *
 	return one((int)k, sel, n, err);
 }
 
+/* k of the n junctions in from (ascending), drawn with MT19937 seeded
+ * with seed: gsl_ran_choose keeps the input order. */
+static int choose(const int *from, int n, long k, unsigned long seed, int **sel, int *nsel,
+                  mesh_error *err)
+{
+	int *s = malloc((size_t)k * sizeof *s);
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	if (s == NULL || r == NULL) {
+		free(s);
+		if (r)
+			gsl_rng_free(r);
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
+	gsl_rng_set(r, seed);
+	gsl_ran_choose(r, s, (size_t)k, (void *)from, (size_t)n, sizeof *from);
+	gsl_rng_free(r);
+	*sel = s;
+	*nsel = (int)k;
+	return MESH_OK;
+}
+
 int junction_select_random(const mesh *m, long k, unsigned long seed, int **sel, int *n,
                            mesh_error *err)
 {
@@ -51,25 +72,124 @@ int junction_select_random(const mesh *m, long k, unsigned long seed, int **sel,
 	if (k < 1 || k > m->nj)
 		return mesh_error_set(err, 0, MESH_EINVAL, "--random %ld: the mesh has %d junctions", k, m->nj);
 	int *all = malloc((size_t)m->nj * sizeof *all);
-	int *s = malloc((size_t)k * sizeof *s);
-	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-	int st = MESH_OK;
-	if (all && s && r) {
-		for (int j = 0; j < m->nj; j++)
-			all[j] = j;
-		gsl_rng_set(r, seed);
-		/* gsl_ran_choose keeps the input order: ascending indices */
-		gsl_ran_choose(r, s, (size_t)k, all, (size_t)m->nj, sizeof *all);
-		*sel = s;
-		*n = (int)k;
-		s = NULL;
-	} else {
-		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	}
-	if (r)
-		gsl_rng_free(r);
+	if (all == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	for (int j = 0; j < m->nj; j++)
+		all[j] = j;
+	int st = choose(all, m->nj, k, seed, sel, n, err);
 	free(all);
-	free(s);
+	return st;
+}
+
+/* The cells at each vertex, from the corners: deg[v] of them, the first
+ * three in vc[3 v ..]. */
+typedef struct {
+	int *deg, *vc;
+} vcells;
+
+static int vcells_build(const mesh *m, vcells *x)
+{
+	x->deg = calloc((size_t)m->nv + 1, sizeof *x->deg);
+	x->vc = malloc(3 * ((size_t)m->nv + 1) * sizeof *x->vc);
+	if (x->deg == NULL || x->vc == NULL) {
+		free(x->deg);
+		free(x->vc);
+		return -1;
+	}
+	for (int c = 0; c < m->nc; c++)
+		for (int i = m->coff[c]; i < m->coff[c + 1]; i++) {
+			int v = m->cv[i];
+			if (x->deg[v] < 3)
+				x->vc[3 * v + x->deg[v]] = c;
+			x->deg[v]++;
+		}
+	return 0;
+}
+
+static int sides(const mesh *m, int c)
+{
+	return m->coff[c + 1] - m->coff[c];
+}
+
+/* The rule of select.h for junction j. */
+static int regular(const mesh *m, const vcells *x, int j)
+{
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+	if (x->deg[a] != 3 || x->deg[b] != 3)
+		return 0;
+	int t[6], nt = 0;
+	for (int i = 0; i < 6; i++) {
+		int c = x->vc[3 * (i < 3 ? a : b) + i % 3], dup = 0;
+		for (int k = 0; k < nt; k++)
+			dup |= t[k] == c;
+		if (!dup)
+			t[nt++] = c;
+	}
+	/* two cells at both ends (the ones j separates) and one at each:
+	 * fewer distinct cells is a tissue too small to have the four */
+	if (nt != 4)
+		return 0;
+	for (int k = 0; k < 4; k++) {
+		int c = t[k];
+		if (sides(m, c) != 6)
+			return 0;
+		for (int i = m->coff[c]; i < m->coff[c + 1]; i++) {
+			int e = m->cj[i];
+			int o = m->jc[2 * e] == c ? m->jc[2 * e + 1] : m->jc[2 * e];
+			if (sides(m, o) != 6)
+				return 0;
+		}
+	}
+	return 1;
+}
+
+int junction_regular(const mesh *m, int j)
+{
+	vcells x;
+	if (vcells_build(m, &x) != 0)
+		return -1;
+	int r = regular(m, &x, j);
+	free(x.deg);
+	free(x.vc);
+	return r;
+}
+
+int junction_regular_all(const mesh *m, unsigned char *reg)
+{
+	vcells x;
+	if (vcells_build(m, &x) != 0)
+		return -1;
+	int n = 0;
+	for (int j = 0; j < m->nj; j++)
+		n += reg[j] = (unsigned char)regular(m, &x, j);
+	free(x.deg);
+	free(x.vc);
+	return n;
+}
+
+int junction_select_regular(const mesh *m, long k, unsigned long seed, int **sel, int *n,
+                            mesh_error *err)
+{
+	*sel = NULL;
+	unsigned char *reg = malloc((size_t)m->nj + 1);
+	int *list = malloc(((size_t)m->nj + 1) * sizeof *list);
+	int nreg = reg && list ? junction_regular_all(m, reg) : -1;
+	int st;
+	if (nreg < 0) {
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	} else if (k < 1 || k > nreg) {
+		st = mesh_error_set(err, 0, MESH_EINVAL,
+		                    "--regular %ld: the mesh has %d locally regular junctions (of %d)",
+		                    k, nreg, m->nj);
+	} else {
+		int nl = 0;
+		for (int j = 0; j < m->nj; j++)
+			if (reg[j])
+				list[nl++] = j;
+		st = choose(list, nl, k, seed, sel, n, err);
+	}
+	free(reg);
+	free(list);
 	return st;
 }
 
@@ -131,6 +251,7 @@ int junction_select(const mesh *m, const jsel *js, int **sel, int *n, mesh_error
 	case JSEL_PAIR: return junction_select_pair(m, js->a, js->b, sel, n, err);
 	case JSEL_INDEX: return junction_select_index(m, js->index, sel, n, err);
 	case JSEL_RANDOM: return junction_select_random(m, js->count, js->seed, sel, n, err);
+	case JSEL_REGULAR: return junction_select_regular(m, js->count, js->seed, sel, n, err);
 	case JSEL_LIST: return junction_select_file(m, js->path, sel, n, err);
 	case JSEL_ALL:
 		if ((*sel = malloc(((size_t)m->nj + 1) * sizeof **sel)) == NULL)
