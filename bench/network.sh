@@ -91,8 +91,9 @@ table)
 	conv)
 		printf 'point\tseed\trtol\tf6_50\tW_50\tnt1_50\tf6_200\tW_200\tnt1_200\tcpu_s\n'
 		for f in "$out"/conv-*.tsv; do
+			# conv-POINT-SEED-RTOL: the rtol has a '-' of its own
 			n=$(basename "$f" .tsv); set -- $(echo "$n" | tr - ' ')
-			printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$3" "$4" "$(val "$n" 50 2)" "$(val "$n" 50 3)" \
+			printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$3" "${n#conv-$2-$3-}" "$(val "$n" 50 2)" "$(val "$n" 50 3)" \
 				"$(val "$n" 50 4)" "$(val "$n" 200 2)" "$(val "$n" 200 3)" "$(val "$n" 200 4)" "$(cat "$out/$n.cpu" 2>/dev/null | tail -1)"
 		done ;;
 	fig4d)
