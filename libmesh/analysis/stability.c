@@ -375,10 +375,14 @@ static double root_second_interval(const secular *s)
 }
 
 /* Newton on F in the complex plane from z; 1 with the root in *z if it
- * converged to a non-real root. */
+ * converged to a non-real root.  Converged: a step below 1e-15 of the
+ * root's scale, or a small step that no longer shrinks (F's rounding
+ * floor, which lies above 1e-15 when many modes add up: the 12 x 12
+ * honeycomb's floor is 1.6e-15 under one set of BLAS kernels). */
 static int newton_complex(const secular *s, double complex *z)
 {
 	double complex x = *z;
+	double prev = INFINITY;
 	for (int it = 0; it < 100; it++) {
 		double complex f1, f = sec_complex(s, x, &f1);
 		if (f1 == 0)
@@ -387,8 +391,10 @@ static int newton_complex(const secular *s, double complex *z)
 		x -= dx;
 		if (!isfinite(creal(x)) || !isfinite(cimag(x)))
 			return 0;
-		double scale = fmax(cabs(x), s->r);
-		if (cabs(dx) <= 1e-15 * scale) {
+		double scale = fmax(cabs(x), s->r), step = cabs(dx);
+		int floor = step <= 1e-9 * scale && step >= 0.5 * prev;
+		prev = step;
+		if (step <= 1e-15 * scale || floor) {
 			if (fabs(cimag(x)) <= 1e-12 * scale)
 				return 0;
 			*z = creal(x) + I * fabs(cimag(x));
