@@ -6,7 +6,7 @@
 # stopped run with noise and T1s (also bs3), and bad usage.
 . "$(dirname "$0")/lib.sh"
 
-plan 11
+plan 14
 
 tis-hex 6 6 --p0 3.65 >"$T/h6.mesh" || exit 1
 tis-hex 12 12 --p0 3.65 >"$T/h12.mesh" || exit 1
@@ -37,6 +37,14 @@ ok "another seed: W further than 1e-4 away ($w2)" far "$w2" "$w8" 1e-4
 tis-active $N --gamma0 3 --time 1.4 --t1-rearm 0 --events "$T/ev0.tsv" "$H" >/dev/null
 ok "every T1 within rtol L of its threshold L" sh -c \
 	"awk -F'\t' '!/^#/ && \$1 != \"t\" { l = \$7; if (!((l > 0.01 * (1 - 2e-6) && l <= 0.01 * (1 + 2e-6)) || (l > 0.0009 * (1 - 2e-6) && l <= 0.0009 * (1 + 2e-6)))) bad++ } END { exit bad > 0 }' '$T/ev0.tsv' && [ \$(grep -c . '$T/ev0.tsv') -gt 100 ]"
+# a new junction longer than the threshold (dp5 only): every T1, of a
+# new junction too, at the ordinary threshold (not at 0.9 t1-new = 0.0135)
+tis-active $N --gamma0 3 --time 1.4 --t1-new 0.015 --events "$T/ev15.tsv" "$H" >"$T/l15.mesh"
+ok "--t1-new 0.015: every T1 within rtol L of the threshold, junctions T1'd again among them" sh -c \
+	"awk -F'\t' '!/^#/ && \$1 != \"t\" { n++; l = \$7; if (!(l > 0.01 * (1 - 2e-6) && l <= 0.01 * (1 + 2e-6))) bad++; if (seen[\$2]++) again++ }
+		END { exit !(n > 50 && bad == 0 && again > 0) }' '$T/ev15.tsv'"
+fails_with 2 "--t1-new at the threshold with euler" tis-active $N --scheme euler --t1-new 0.01 "$H"
+fails_with 2 "--t1-new past 0.5" tis-active $N --t1-new 0.6 "$H"
 # SIGTERM and continuation, noise and T1s: the uninterrupted bytes
 interrupt() {
 	out=$1; shift

@@ -47,6 +47,6 @@ static void diag(const char *fmt, ...)
 }
 
 /* Exit status for main: done_testing() after a plan. */
-static int tap_done(void) { return tap_failed ? 1 : 0; }
+static inline int tap_done(void) { return tap_failed ? 1 : 0; }
 
 #endif

@@ -53,7 +53,8 @@ static const char help[] =
 	STR(ACT_BDF_CHECKPOINT) "; 0: never)\n"
 	"  --dt DT, --dr DR   euler step limits (default 0.001 each)\n"
 	"  --t1 L             T1 threshold (network default 0.01, else 0: off)\n"
-	"  --t1-new L         length of a junction made by a T1 (default 0.001)\n"
+	"  --t1-new L         length of a junction made by a T1 (default 0.001;\n"
+	"                     above the threshold: dp5, bs3 only)\n"
 	"  --t1-again F       it is T1'd again below F times that (default 0.9;\n"
 	"                     euler, split 0: as soon as it shrinks)\n"
 	"  --t1-rearm L       dp5, bs3: it gets the threshold back once longer\n"
@@ -177,8 +178,8 @@ static struct opts parse(int argc, char **argv)
 	o.jo.name = cli_input_name(o.input);
 	const int network = o.js.kind == JSEL_ALL;
 	act_opts_mode(&o.a, network, o.has_t1, o.has_scheme);
-	if (o.a.t1_length > 0 && !(o.a.t1_new < o.a.t1_length))
-		cli_usage_error("--t1-new must be shorter than the T1 threshold");
+	if (o.a.t1_length > 0 && !(o.a.t1_new < o.a.t1_length) && o.a.scheme != ACT_DP5 && o.a.scheme != ACT_BS3)
+		cli_usage_error("--t1-new must be shorter than the T1 threshold (euler, split, bdf)");
 	if (o.a.sigma > 0 && o.a.scheme == ACT_BDF)
 		cli_usage_error("--scheme bdf has no noise; use dp5 or euler with --sigma");
 	if (o.a.ou_dt > 0 && fabs(1 / o.a.ou_dt - round(1 / o.a.ou_dt)) > 1e-9 / o.a.ou_dt)

@@ -77,10 +77,16 @@ static int check_opts(const act_opts *o, mesh_error *err)
 		return mesh_error_set(err, 0, MESH_EDOM, "sigma must be non-negative");
 	if (!(o->l_collapse > 0 && isfinite(o->l_collapse)))
 		return mesh_error_set(err, 0, MESH_EDOM, "the collapse length must be positive");
-	if (!(o->t1_length >= 0 && isfinite(o->t1_length)) ||
-	    (o->t1_length > 0 && !(o->t1_new > 0 && o->t1_new < o->t1_length)))
-		return mesh_error_set(err, 0, MESH_EDOM, "bad T1 lengths (0 < new < threshold)");
 	const int events = act_scheme_dense(o->scheme);
+	/* euler, split and bdf tell a new junction by its threshold below
+	 * t1_length, so it must start below; dp5 and bs3 keep a mode per
+	 * junction and take any length (the T1 rule varied, studies/README.md) */
+	const int rk = o->scheme == ACT_DP5 || o->scheme == ACT_BS3;
+	if (!(o->t1_length >= 0 && isfinite(o->t1_length)) ||
+	    (o->t1_length > 0 && !(o->t1_new > 0 && isfinite(o->t1_new) && o->t1_new <= 0.5 &&
+	                           (rk || o->t1_new < o->t1_length))))
+		return mesh_error_set(err, 0, MESH_EDOM,
+		                      rk ? "bad T1 lengths (0 < new <= 0.5)" : "bad T1 lengths (0 < new < threshold)");
 	if (!(o->t1_again >= 0 && o->t1_again < 1) || (events && !(o->t1_again > 0)))
 		return mesh_error_set(err, 0, MESH_EDOM, "t1_again must be in (0, 1) (euler, split: [0, 1))");
 	if (o->scheme == ACT_DP5 || o->scheme == ACT_BS3) {

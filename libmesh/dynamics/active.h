@@ -105,7 +105,11 @@ typedef struct {
 	double dt_max;      /* Euler: longest step (1e-3) */
 	double dr_max;      /* Euler: largest vertex move per step (1e-3) */
 	double t1_length;   /* T1 threshold (0: topology fixed) */
-	double t1_new;      /* length of a junction made by a T1 (1e-3) */
+	double t1_new;      /* length of a junction made by a T1 (1e-3); below
+	                       t1_length, but DP5 and BS3 take a longer one:
+	                       that junction starts above the threshold and is
+	                       T1'd again below min(t1_again t1_new,
+	                       t1_length) */
 	double t1_again;    /* a junction made by a T1 is T1'd again once it
 	                       is shorter than t1_again t1_new (and shrinking,
 	                       Euler), until it has been longer than t1_length

@@ -237,6 +237,13 @@ static double event_g(void *data, int i, double t)
 	return l - ((i & 1) ? rearm_length(a, j) : a->k->thr[j]);
 }
 
+/* The threshold of a junction just made by a T1: t1_again t1_new, or
+ * the ordinary one for a new junction longer than that. */
+static double fresh_threshold(const act *a)
+{
+	return fmin(a->o.t1_again * a->o.t1_new, a->o.t1_length);
+}
+
 static void arm(act *a, int j)
 {
 	rk *k = a->k;
@@ -317,7 +324,7 @@ void rk_set_fresh(act *a, const unsigned char *fresh)
 		if (fresh && fresh[j]) {
 			k->mode[j] = FRESH;
 			k->fresh[j] = 1;
-			k->thr[j] = a->o.t1_again * a->o.t1_new;
+			k->thr[j] = fresh_threshold(a);
 		}
 	}
 }
@@ -453,7 +460,7 @@ static int t1s(act *a, mesh_error *err)
 		a->c.nt1_again += k->mode[best] == FRESH;
 		k->mode[best] = FRESH;
 		k->fresh[best] = 1;
-		k->thr[best] = a->o.t1_again * a->o.t1_new;
+		k->thr[best] = fresh_threshold(a);
 		if (a->hook)
 			a->hook(a->hook_data, a->t, best, lose, m->jc + 2 * best, lb);
 	}
