@@ -13,7 +13,7 @@
 # Usage: bench/network.sh run NAME POINT SEED TIME OPTIONS...  (one run:
 # its trace and CPU seconds into bench/out/network/NAME.*), or
 # bench/network.sh jobs PART (the job list of a part, one 'run' line
-# each, for xargs -P or a batch system: cost, conv, fig4d), or
+# each, for xargs -P or a batch system: cost, conv, fig4d, t1rule), or
 # bench/network.sh table PART (the table of RESULTS.md from the runs).
 # CPU seconds are /usr/bin/time's user time; quote them only beside the
 # machine's load.
@@ -71,6 +71,18 @@ jobs)
 		for s in 1 2 3 4 5; do for g in 0 0.05 0.1 0.2; do
 			echo "run fig4d-$g-$s 4d $s 200 --sigma $g"
 		done; done ;;
+	t1rule)
+		# the T1 rule varied at the Fig. 4D point (sigma 0.05): the new
+		# junction's length (the paper's 1e-3, 0.015 and 0.03, the last
+		# two above the threshold 0.01, so re-arming cannot matter there)
+		# and, at 1e-3, re-arming off (the new junction keeps its lowered
+		# threshold 0.9e-3 for good); 1e-3 with re-arming on is fig4d.
+		# 0.03 is a T1 storm (about 19 000 T1s per time unit): 50 units.
+		for s in 1 2 3; do
+			echo "run t1rule-0.001-off-$s 4d $s 200 --t1-rearm 0"
+			echo "run t1rule-0.015-on-$s 4d $s 200 --t1-new 0.015"
+			echo "run t1rule-0.03-on-$s 4d $s 50 --t1-new 0.03"
+		done ;;
 	esac ;;
 table)
 	val() { awk -F'\t' -v t="$2" -v c="$3" '!/^#/ && $1 == t { print $c }' "$out/$1.tsv" 2>/dev/null; }
@@ -102,6 +114,14 @@ table)
 			n=$(basename "$f" .tsv); set -- $(echo "$n" | tr - ' ')
 			printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$3" "$(val "$n" 0 2)" "$(val "$n" 50 2)" "$(val "$n" 200 2)" \
 				"$(val "$n" 200 4)" "$(val "$n" 200 8)"
+		done ;;
+	t1rule)
+		printf 't1_new\trearm\tseed\tt_end\tf6_0\tf6_50\tf6_end\tnt1\tnt1_again\tcpu_s\n'
+		for f in "$out"/t1rule-*.tsv; do
+			n=$(basename "$f" .tsv); set -- $(echo "$n" | tr - ' ')
+			te=$(awk -F'\t' '!/^#/ && $1 != "t" { t = $1 } END { print t }' "$f")
+			printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$3" "$4" "$te" "$(val "$n" 0 2)" "$(val "$n" 50 2)" \
+				"$(val "$n" "$te" 2)" "$(val "$n" "$te" 4)" "$(val "$n" "$te" 8)" "$(cat "$out/$n.cpu" 2>/dev/null | tail -1)"
 		done ;;
 	esac ;;
 esac

@@ -11,7 +11,7 @@ PATH=$top/studies/sweep:$PATH
 if ! command -v parallel >/dev/null 2>&1; then
 	skip_all "GNU parallel is not installed (Debian parallel)"
 fi
-plan 20
+plan 21
 
 D=$T/sweep
 mkdir -p "$D"
@@ -70,6 +70,12 @@ ok "reduce: 8 rows in order with x + y and x y" awk -F'\t' '
 	END { exit bad || k != 8 }' "$T/all.tsv"
 ok "reduce: provenance of the grid's job and of sweep-row" sh -c \
 	"grep -q '^# job for row 1' '$T/all.tsv' && grep -q '^# sweep-row ' '$T/all.tsv'"
+# under a suite top (TIS_TOP, as run-study sets it) the provenance names
+# the sweep from there, not by this machine's absolute path
+rm -f "$D/results/2.tsv"
+TIS_TOP=$T sweep-row "$D" 2 >/dev/null
+ok "provenance from TIS_TOP: sweep-row and sweep-reduce name 'sweep'" sh -c \
+	"grep -qx '# sweep-row sweep 2' '$D/results/2.tsv' && TIS_TOP='$T' sweep-reduce '$D' | head -1 | grep -qx '# sweep-reduce sweep: 8 rows'"
 : >"$D/runs.log"
 rm -f "$D/joblog"
 parallel.sh "$D" -j2
