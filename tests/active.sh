@@ -134,25 +134,9 @@ fails_with 2 "--scheme unknown" tis-active --network --scheme rk4 "$H"
 
 # SIGTERM: a valid mesh, exit 3, and continuing gives the uninterrupted
 # state.  The signal goes once the trace shows the run is under way.
-# interrupt OUT ARGS...: run, SIGTERM after a few trace rows, $st the exit
-interrupt() {
-	out=$1; shift
-	for try in 1 2 3; do
-		rm -f "$T/int.tsv"
-		tis-active "$@" --trace "$T/int.tsv" >"$out" 2>/dev/null & pid=$!
-		i=0
-		while [ "$(cat "$T/int.tsv" 2>/dev/null | grep -c .)" -lt 6 ] && [ $i -lt 500 ]; do
-			sleep 0.02; i=$((i + 1))
-		done
-		kill -TERM $pid 2>/dev/null; wait $pid; st=$?
-		# a run that finished before the signal came is tried again
-		[ $st -eq 0 ] || break
-	done
-}
-same_state() { sed -n '/^vertices/,$p' "$1" >"$T/f1"; sed -n '/^vertices/,$p' "$2" >"$T/f2"; cmp -s "$T/f1" "$T/f2"; }
 R="--index 0 $A --scheme euler --sigma 0.02 --time 300"
 tis-active $R "$H" >"$T/full.mesh"
-interrupt "$T/part.mesh" $R "$H"
+interrupt 6 "$T/part.mesh" $R "$H"
 ok "SIGTERM: exit 3 and the time in a state line" sh -c "[ $st -eq 3 ] && grep -q '^state active_t ' '$T/part.mesh'"
 tis-active $R "$T/part.mesh" >"$T/cont.mesh"
 ok "continued from the interrupted mesh: the uninterrupted state, to the bit" same_state "$T/full.mesh" "$T/cont.mesh"
@@ -160,7 +144,7 @@ ok "continued from the interrupted mesh: the uninterrupted state, to the bit" sa
 # stream and the T1 order all carry over
 R="--network --rate 0.5 --gamma0 0.5 --sigma 0.05 --time 40"
 tis-active $R "$H" >"$T/nfull.mesh"
-interrupt "$T/npart.mesh" $R "$H"
+interrupt 6 "$T/npart.mesh" $R "$H"
 tis-active $R "$T/npart.mesh" >"$T/ncont.mesh"
 ok "network, noise and T1s: interrupted (exit 3) and continued, the uninterrupted state to the bit" \
 	sh -c "[ $st -eq 3 ] && grep -q '^state active_t ' '$T/npart.mesh' && ! grep -q ' 0 T1s' '$T/nfull.mesh'" && same_state "$T/nfull.mesh" "$T/ncont.mesh"
@@ -170,7 +154,7 @@ ok "network, noise and T1s: interrupted (exit 3) and continued, the uninterrupte
 tis-hex 6 6 --p0 3.7224194364083982 >"$T/phex.mesh"
 R="--index 0 --rate 0.19 --gamma0 0.11 --time 1500"
 tis-active $R "$T/phex.mesh" >"$T/bfull.mesh"
-interrupt "$T/bpart.mesh" $R "$T/phex.mesh"
+interrupt 6 "$T/bpart.mesh" $R "$T/phex.mesh"
 ok "bdf: SIGTERM stops at a checkpoint (exit 3, active_t a multiple of 100)" \
 	sh -c "[ $st -eq 3 ] && grep -Eq '^state active_t [1-9][0-9]*00$' '$T/bpart.mesh'"
 tis-active $R "$T/bpart.mesh" >"$T/bcont.mesh"

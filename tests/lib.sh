@@ -69,3 +69,24 @@ rows() { awk '$1 == $1 + 0' "$@"; }
 # names FILE: a table's line of column names (its first line without '#').
 names() { grep -v '^#' "$1" | head -1; }
 done_testing() { [ "$failed" -eq 0 ]; }
+
+# interrupt ROWS OUT ARGS...: tis-active ARGS (with --trace) into OUT,
+# SIGTERM once its trace has ROWS lines (the run is under way); a run that
+# finished before the signal came is tried again (3 times).  $st: its exit.
+interrupt() {
+	rows=$1 out=$2; shift 2
+	for try in 1 2 3; do
+		rm -f "$T/int.tsv"
+		tis-active "$@" --trace "$T/int.tsv" >"$out" 2>/dev/null & pid=$!
+		i=0
+		while [ "$(cat "$T/int.tsv" 2>/dev/null | grep -c .)" -lt "$rows" ] && [ $i -lt 500 ]; do
+			sleep 0.02; i=$((i + 1))
+		done
+		kill -TERM $pid 2>/dev/null; wait $pid; st=$?
+		[ $st -eq 0 ] || break
+	done
+}
+
+# same_state A B: the two meshes' vertices and everything after them alike
+# (their history lines may differ)
+same_state() { sed -n '/^vertices/,$p' "$1" >"$T/f1"; sed -n '/^vertices/,$p' "$2" >"$T/f2"; cmp -s "$T/f1" "$T/f2"; }

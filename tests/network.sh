@@ -46,24 +46,10 @@ ok "--t1-new 0.015: every T1 within rtol L of the threshold, junctions T1'd agai
 fails_with 2 "--t1-new at the threshold with euler" tis-active $N --scheme euler --t1-new 0.01 "$H"
 fails_with 2 "--t1-new past 0.5" tis-active $N --t1-new 0.6 "$H"
 # SIGTERM and continuation, noise and T1s: the uninterrupted bytes
-interrupt() {
-	out=$1; shift
-	for try in 1 2 3; do
-		rm -f "$T/int.tsv"
-		tis-active "$@" --trace "$T/int.tsv" >"$out" 2>/dev/null & pid=$!
-		i=0
-		while [ "$(cat "$T/int.tsv" 2>/dev/null | grep -c .)" -lt 8 ] && [ $i -lt 500 ]; do
-			sleep 0.02; i=$((i + 1))
-		done
-		kill -TERM $pid 2>/dev/null; wait $pid; st=$?
-		[ $st -eq 0 ] || break
-	done
-}
-same_state() { sed -n '/^vertices/,$p' "$1" >"$T/f1"; sed -n '/^vertices/,$p' "$2" >"$T/f2"; cmp -s "$T/f1" "$T/f2"; }
 for sch in dp5 bs3; do
 	R="$N --sigma 0.05 --time 30 --scheme $sch"
 	tis-active $R "$H" >"$T/full.mesh"
-	interrupt "$T/part.mesh" $R "$H"
+	interrupt 8 "$T/part.mesh" $R "$H"
 	tis-active $R "$T/part.mesh" >"$T/cont.mesh"
 	ok "$sch, noise and T1s: stopped (exit $st) at a whole time and continued, the uninterrupted bytes" \
 		sh -c "[ $st -eq 3 ] && grep -q '^state active_t [0-9]*\$' '$T/part.mesh'" && same_state "$T/full.mesh" "$T/cont.mesh"
