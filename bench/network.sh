@@ -77,11 +77,11 @@ jobs)
 		# two above the threshold 0.01, so re-arming cannot matter there)
 		# and, at 1e-3, re-arming off (the new junction keeps its lowered
 		# threshold 0.9e-3 for good); 1e-3 with re-arming on is fig4d.
-		# 0.03 is a T1 storm (about 19 000 T1s per time unit): 50 units.
+		# 0.03 is a T1 storm (about 25 000 T1s per time unit): 20 units.
 		for s in 1 2 3; do
 			echo "run t1rule-0.001-off-$s 4d $s 200 --t1-rearm 0"
 			echo "run t1rule-0.015-on-$s 4d $s 200 --t1-new 0.015"
-			echo "run t1rule-0.03-on-$s 4d $s 50 --t1-new 0.03"
+			echo "run t1rule-0.03-on-$s 4d $s 20 --t1-new 0.03"
 		done ;;
 	esac ;;
 table)

@@ -498,7 +498,7 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 	for (int i = 0; i < nk; i++)
 		m->cj[i] = -1;
 	int nj = 0;
-	double half = 0.5 * (m->lx < m->ly ? m->lx : m->ly);
+	double half = 0.5 * fmin(m->lx, m->ly);
 	for (int i = 0; i < nk; i++) {
 		if (m->cj[i] >= 0)
 			continue;
