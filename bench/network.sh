@@ -82,6 +82,12 @@ jobs)
 			echo "run t1rule-0.001-off-$s 4d $s 200 --t1-rearm 0"
 			echo "run t1rule-0.015-on-$s 4d $s 200 --t1-new 0.015"
 			echo "run t1rule-0.03-on-$s 4d $s 20 --t1-new 0.03"
+		done
+		# the rules that order at rtol 1e-6, again at 1e-7 and 1e-8 (seed 1)
+		for r in tight:1e-7 tighter:1e-8; do
+			echo "run t1rule-0.001-off-1-${r%:*} 4d 1 200 --t1-rearm 0 --rtol ${r#*:}"
+			echo "run t1rule-0.015-on-1-${r%:*} 4d 1 200 --t1-new 0.015 --rtol ${r#*:}"
+			echo "run t1rule-0.03-on-1-${r%:*} 4d 1 20 --t1-new 0.03 --rtol ${r#*:}"
 		done ;;
 	esac ;;
 table)
@@ -116,11 +122,12 @@ table)
 				"$(val "$n" 200 4)" "$(val "$n" 200 8)"
 		done ;;
 	t1rule)
-		printf 't1_new\trearm\tseed\tt_end\tf6_0\tf6_50\tf6_end\tnt1\tnt1_again\tcpu_s\n'
+		printf 't1_new\trearm\tseed\trtol\tt_end\tf6_0\tf6_50\tf6_end\tnt1\tnt1_again\tcpu_s\n'
 		for f in "$out"/t1rule-*.tsv; do
 			n=$(basename "$f" .tsv); set -- $(echo "$n" | tr - ' ')
 			te=$(awk -F'\t' '!/^#/ && $1 != "t" { t = $1 } END { print t }' "$f")
-			printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$3" "$4" "$te" "$(val "$n" 0 2)" "$(val "$n" 50 2)" \
+			r=1e-6; [ "${5:-}" = tight ] && r=1e-7; [ "${5:-}" = tighter ] && r=1e-8
+			printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$3" "$4" "$r" "$te" "$(val "$n" 0 2)" "$(val "$n" 50 2)" \
 				"$(val "$n" "$te" 2)" "$(val "$n" "$te" 4)" "$(val "$n" "$te" 8)" "$(cat "$out/$n.cpu" 2>/dev/null | tail -1)"
 		done ;;
 	esac ;;
