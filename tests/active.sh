@@ -95,10 +95,11 @@ ok "network: T1s happen and each is an event row" sh -c "n=\$(grep -v '^#' '$T/e
 # made by a T1 at t1_again t1_new), and its T1s and re-T1s are split's at
 # a converged step (dt 1e-4 and 5e-5 give the same counts).  A re-T1 at
 # the ordinary threshold would flip a new junction back and forth without
-# end: the bdf runs (a second here) are stopped after 120 s, as a hang.
+# end: the bdf runs (a second here) are stopped after 120 s, as a hang
+# (killed: a SIGTERM waits for bdf's next checkpoint, past this run's end).
 tis-hex 4 4 --p0 3.8 | tis-anneal --stage 0.5:20 --relax 20 --seed 3 | tis-relax -q >"$T/dis.mesh"
 N="--network --t1 0.02 --rate 0.5 --gamma0 0.5 --time 5"
-timeout 120 tis-active $N --scheme bdf --trace "$T/bt.tsv" --events "$T/be.tsv" "$T/dis.mesh" >"$T/bt.mesh"; st=$?
+timeout -s KILL 120 tis-active $N --scheme bdf --trace "$T/bt.tsv" --events "$T/be.tsv" "$T/dis.mesh" >"$T/bt.mesh"; st=$?
 tis-active $N --scheme split --dt 1e-4 --dr 1e-4 --trace "$T/s4.tsv" "$T/dis.mesh" >/dev/null
 tis-active $N --scheme split --dt 5e-5 --dr 5e-5 --trace "$T/s5.tsv" "$T/dis.mesh" >/dev/null
 counts() { tail -1 "$1" | cut -f4,8; }
@@ -112,7 +113,7 @@ ok "bdf: every T1 at l = t1 (0.02) or, a re-T1, at t1_again t1_new (0.0009), to 
 	END { exit bad || !(n > 0 && a > 0) }' "$T/be.tsv"
 ok "bdf: re-T1 rows (0.0009) as many as the trace's nt1_again" \
 	test "$(awk -F'\t' '$1 == $1 + 0 && $7 < 0.001' "$T/be.tsv" | wc -l)" = "$(tail -1 "$T/bt.tsv" | cut -f8)"
-[ $st -eq 124 ] || timeout 120 tis-active $N --scheme bdf --t1-again 0.5 --events "$T/be5.tsv" "$T/dis.mesh" >/dev/null
+[ $st -eq 137 ] || timeout -s KILL 120 tis-active $N --scheme bdf --t1-again 0.5 --events "$T/be5.tsv" "$T/dis.mesh" >/dev/null
 ok "bdf --t1-again 0.5: the re-T1s at 0.0005" \
 	awk -F'\t' '$1 == $1 + 0 && $7 < 0.01 { n++; e = $7 - 0.0005; if (e * e > 1e-18) bad = 1 } END { exit bad || !(n > 0) }' "$T/be5.tsv"
 
