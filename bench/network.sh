@@ -13,7 +13,7 @@
 # Usage: bench/network.sh run NAME POINT SEED TIME OPTIONS...  (one run:
 # its trace and CPU seconds into bench/out/network/NAME.*), or
 # bench/network.sh jobs PART (the job list of a part, one 'run' line
-# each, for xargs -P or a batch system: cost, conv, fig4d, t1rule), or
+# each, for xargs -P or a batch system: cost, conv, storm, fig4d, t1rule), or
 # bench/network.sh table PART (the table of RESULTS.md from the runs).
 # CPU seconds are /usr/bin/time's user time; quote them only beside the
 # machine's load.
@@ -66,6 +66,11 @@ jobs)
 		for s in 1 2 3; do
 			for pt in 4d 4c; do for r in 1e-5 1e-6 1e-7; do echo "run conv-$pt-$s-$r $pt $s 200 --rtol $r"; done; done
 		done ;;
+	storm)
+		# the storm point's convergence per seed to t 50 (a storm run costs
+		# about 1.4 CPU s per time unit), and one run to t 200 at the default
+		for s in 1 2 3; do for r in 1e-5 1e-6 1e-7; do echo "run conv-storm-$s-$r storm $s 50 --rtol $r"; done; done
+		echo "run storm200-1 storm 1 200" ;;
 	fig4d)
 		# Fig. 4D, S9 with the default: activity alone and with noise
 		for s in 1 2 3 4 5; do for g in 0 0.05 0.1 0.2; do
