@@ -10,7 +10,7 @@
 # (TIS_TEST_SEED=N repeats them).
 . "$(dirname "$0")/lib.sh"
 
-plan 22
+plan 24
 
 tis-hex 6 6 --p0 3.65 >"$T/h.mesh" || exit 1
 tis-hex 6 6 --p0 3.7224194364083982 >"$T/phex.mesh" || exit 1
@@ -106,6 +106,15 @@ fails_with 1 "tis-active refuses a mesh a stopped tis-anneal run left" tis-activ
 fails_with 1 "tis-anneal refuses its stopped mesh with another --p0" \
 	tis-anneal --stage 0.8:100 --stage 0.1:60 --relax 20 --seed 5 --p0 3.75 "$A"
 ok "... naming it" grep -q 'p0 3.7, not 3.75' "$T/err"
+
+# tis-relax writes a new state: a stopped run's mark does not survive it,
+# so the relaxed mesh starts any run (a quasistatic p0 sweep of anneal and
+# relax steps stopped at the first p0 where an anneal had stopped)
+tis-relax -q --accept "$A" >"$T/arelax.mesh" 2>/dev/null
+ok "tis-relax drops a stopped run's state lines" sh -c "grep -q '^state' '$A' && ! grep -q '^state' '$T/arelax.mesh'"
+tis-anneal --stage 0:5 --relax 0 --p0 3.75 "$T/arelax.mesh" >/dev/null 2>"$T/aerr"; st=$?
+ok "... and tis-anneal with other options does not take it for that run's (exit $st)" \
+	sh -c "[ $st -ne 1 ] && ! grep -q 'holds the state' '$T/aerr'"
 
 # frames of a continued run: the state of the run they are frames of, not
 # the used-up state of the run it continued (a frame given back would

@@ -148,6 +148,10 @@ int main(int argc, char **argv)
 		if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
 		    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
 			cli_die(EXIT_INPUT, "out of memory");
+		/* the relaxed mesh is a new state: a stopped run's state lines
+		 * and mark no longer describe it, and kept they would make the
+		 * next run refuse it as that run's to continue */
+		mesh_state_clear(m);
 		model p = model_from_mesh(m);
 		min_report rep;
 		double t0 = now();
