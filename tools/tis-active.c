@@ -178,7 +178,7 @@ static struct opts parse(int argc, char **argv)
 	o.jo.name = cli_input_name(o.input);
 	const int network = o.js.kind == JSEL_ALL;
 	act_opts_mode(&o.a, network, o.has_t1, o.has_scheme);
-	if (o.a.t1_length > 0 && !(o.a.t1_new < o.a.t1_length) && o.a.scheme != ACT_DP5 && o.a.scheme != ACT_BS3)
+	if (o.a.t1_length > 0 && !(o.a.t1_new < o.a.t1_length) && !act_scheme_rk(o.a.scheme))
 		cli_usage_error("--t1-new must be shorter than the T1 threshold (euler, split, bdf)");
 	if (o.a.sigma > 0 && o.a.scheme == ACT_BDF)
 		cli_usage_error("--scheme bdf has no noise; use dp5 or euler with --sigma");

@@ -47,7 +47,12 @@ const char *act_scheme_name(act_scheme s)
 
 int act_scheme_dense(act_scheme s)
 {
-	return s == ACT_BDF || s == ACT_DP5 || s == ACT_BS3;
+	return s == ACT_BDF || act_scheme_rk(s);
+}
+
+int act_scheme_rk(act_scheme s)
+{
+	return s == ACT_DP5 || s == ACT_BS3;
 }
 
 double act_ou_dt(double tau)
@@ -80,8 +85,8 @@ static int check_opts(const act_opts *o, mesh_error *err)
 	const int events = act_scheme_dense(o->scheme);
 	/* euler, split and bdf tell a new junction by its threshold below
 	 * t1_length, so it must start below; dp5 and bs3 keep a mode per
-	 * junction and take any length (the T1 rule varied, studies/README.md) */
-	const int rk = o->scheme == ACT_DP5 || o->scheme == ACT_BS3;
+	 * junction and take any length (bench/RESULTS.md, "the T1 rule varied") */
+	const int rk = act_scheme_rk(o->scheme);
 	if (!(o->t1_length >= 0 && isfinite(o->t1_length)) ||
 	    (o->t1_length > 0 && !(o->t1_new > 0 && isfinite(o->t1_new) && o->t1_new <= 0.5 &&
 	                           (rk || o->t1_new < o->t1_length))))
@@ -89,7 +94,7 @@ static int check_opts(const act_opts *o, mesh_error *err)
 		                      rk ? "bad T1 lengths (0 < new <= 0.5)" : "bad T1 lengths (0 < new < threshold)");
 	if (!(o->t1_again >= 0 && o->t1_again < 1) || (events && !(o->t1_again > 0)))
 		return mesh_error_set(err, 0, MESH_EDOM, "t1_again must be in (0, 1) (euler, split: [0, 1))");
-	if (o->scheme == ACT_DP5 || o->scheme == ACT_BS3) {
+	if (rk) {
 		if (!(o->rtol >= 1e-14 && o->rtol <= 0.1))
 			return mesh_error_set(err, 0, MESH_EDOM, "rtol must be in [1e-14, 0.1]");
 		if (!(o->t1_rearm < 0 || o->t1_rearm == 0 || o->t1_rearm >= o->t1_length) ||
@@ -206,7 +211,7 @@ int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *a
 		else
 			m->dg[j] = 0;
 	}
-	if (o->scheme == ACT_DP5 || o->scheme == ACT_BS3) {
+	if (act_scheme_rk(o->scheme)) {
 		a->seed = seed;
 		if ((st = rk_alloc(a, err)) != MESH_OK) {
 			act_free(a);

@@ -67,6 +67,9 @@ int act_scheme_parse(const char *name, act_scheme *s);
 /* Whether the scheme has an interpolant between its step ends (bdf, dp5,
  * bs3): then act_sample gives the state at any time of the last step. */
 int act_scheme_dense(act_scheme s);
+/* Whether the scheme is one of the embedded Runge-Kutta pairs (dp5, bs3:
+ * rk.c), which share their options (rtol, ou_dt, t1_rearm) and T1 rule. */
+int act_scheme_rk(act_scheme s);
 
 /* Euler and Runge-Kutta runs stop (SIGTERM) and renumber after T1s only
  * at multiples of this time (active.c); the Runge-Kutta schemes start

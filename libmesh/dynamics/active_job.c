@@ -36,7 +36,7 @@ static void job_key(const model *p, const act_opts *o, const act_job_opts *jo, i
 	if (o->scheme == ACT_BDF) {
 		mesh_run_key_num(buf, n, "rtol", o->rtol);
 		mesh_run_key_num(buf, n, "checkpoint", o->checkpoint);
-	} else if (o->scheme == ACT_DP5 || o->scheme == ACT_BS3) {
+	} else if (act_scheme_rk(o->scheme)) {
 		mesh_run_key_num(buf, n, "rtol", o->rtol);
 		mesh_run_key_num(buf, n, "ou_dt", o->ou_dt);
 		mesh_run_key_num(buf, n, "t1_rearm", o->t1_rearm);
@@ -285,7 +285,7 @@ int act_note(char *buf, size_t n, const act_opts *o, const act_result *r)
 	if (o->scheme == ACT_BDF)
 		len += snprintf(buf + len, n > (size_t)len ? n - len : 0,
 				", %ld factorizations, %ld GMRES iterations", r->c.nsetup, r->c.nlin);
-	if (o->scheme == ACT_DP5 || o->scheme == ACT_BS3)
+	if (act_scheme_rk(o->scheme))
 		len += snprintf(buf + len, n > (size_t)len ? n - len : 0, ", %ld rejected steps",
 				r->c.nreject);
 	return len;
