@@ -607,7 +607,11 @@ typedef struct {
 	const model *p;
 	energy_ws *ew;
 	hessian_ws *hw;
-	hessian_sparse *hs;   /* preconditioner: the sparse Hessian, */
+	hessian_sparse *hs;   /* preconditioner: the sparse Hessian (built at
+	                         the first setup: a well-conditioned solve,
+	                         a proximal step's, never needs one, and at
+	                         10^5 cells the pattern costs more than the
+	                         step), */
 	spchol *ch;           /* its complete factorization, or */
 	pcschwarz *sw;        /* the Schwarz one (NULL until first needed) */
 	double shift;         /* the last shift used */
@@ -617,6 +621,8 @@ typedef struct {
 	int overlap;          /* min_opts.pcoverlap */
 	int threads;          /* min_opts.threads, where the tissue is large
 	                         enough for them (thread_min) */
+	int hs_threads;       /* min_opts.threads and thread_min, for hs */
+	int thread_min;
 	int have;             /* ch or sw holds a factor */
 	double prox;          /* min_opts.prox: weight of |x - x0|^2 / 2 */
 	const double *x0;     /* its centre (the mesh's coordinates) */
@@ -747,6 +753,12 @@ static int relax_pcsetup(const double *x, void *data)
 {
 	relax_ctx *rc = data;
 	rc->have = 0;
+	if (rc->hs == NULL) {
+		if ((rc->hs = hessian_sparse_alloc(rc->m)) == NULL)
+			return -1;
+		if (rc->hs_threads > 1)
+			hessian_sparse_threads(rc->hs, rc->hs_threads, rc->thread_min);
+	}
 	mesh_hessian_sparse(rc->m, x, rc->p, rc->hs);
 	/* the proximal term's Hessian: prox on the diagonal (first in its
 	 * column), so the shift ladder starts from a definite matrix */
@@ -826,20 +838,19 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 	relax_ctx rc = { .m = m, .p = p, .ew = energy_ws_alloc(m), .hw = hessian_ws_alloc(m),
 			 .pcmem = oo.pcmem, .kind = oo.pckind, .pcblock = oo.pcblock,
 			 .overlap = oo.pcoverlap, .prox = oo.prox, .x0 = m->r, .threads = 1 };
-	if (oo.precond)
-		rc.hs = hessian_sparse_alloc(m);
 	/* out of memory for the threads' scratch: serially, the same numbers */
+	rc.hs_threads = 1;
 	if (oo.threads > 1) {
 		if (rc.ew)
 			energy_ws_threads(rc.ew, oo.threads, oo.thread_min);
-		if (rc.hs)
-			hessian_sparse_threads(rc.hs, oo.threads, oo.thread_min);
+		rc.hs_threads = oo.threads;
+		rc.thread_min = oo.thread_min;
 		if (m->nv >= (oo.thread_min > 0 ? oo.thread_min : ENERGY_PAR_NV))
 			rc.threads = oo.threads;
 	}
 	double *x = malloc(2 * (size_t)m->nv * sizeof *x);
 	int st = MESH_ENOMEM;
-	if (rc.ew && rc.hw && x && (rc.hs || !oo.precond)) {
+	if (rc.ew && rc.hw && x) {
 		memcpy(x, m->r, 2 * (size_t)m->nv * sizeof *x);
 		st = min_run(2 * m->nv, x, relax_f, &rc, &oo, rep);
 		if (st == MESH_OK || st == MESH_ENOCONV) {
