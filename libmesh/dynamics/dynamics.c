@@ -455,7 +455,8 @@ static int implicit_step(dyn *d, double t_end, double fmax, double lhalf, double
 {
 	const dyn_opts *o = &d->o;
 	gf_opts go = { .tol = tol, .lev = o->t1_length > 0 ? o->t1_length : o->l_stop,
-		       .hmax = t_end - d->c.t, .lhalf = lhalf };
+		       .hmax = t_end - d->c.t, .lhalf = lhalf, .threads = o->threads,
+		       .thread_min = o->thread_min };
 	if (!(d->h > 0))
 		d->h = fmax > 0 ? tol / fmax : go.hmax;
 	gf_report gr;

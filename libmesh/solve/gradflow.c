@@ -25,10 +25,13 @@ static double clamp(double x, double lo, double hi)
 /* The implicit step of size h from r0 into m->r: mesh_relax with the
  * proximal term.  Its residual moves the result by at most about h times
  * the force tolerance, kept far below tol and below the step's own size. */
-static int solve(mesh *m, const model *p, double h, double tol, double gmax)
+static int solve(mesh *m, const model *p, double h, double tol, double gmax,
+                 const gf_opts *o)
 {
 	min_opts mo;
 	min_opts_init(&mo);
+	mo.threads = o->threads > 1 ? o->threads : 1;
+	mo.thread_min = o->thread_min;
 	mo.prox = 1 / h;
 	mo.ftol = fmax(1e-10, fmin(0.01 * tol / h, 1e-3 * gmax));
 	return mesh_relax(m, p, &mo, NULL);
@@ -73,7 +76,7 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 	int st = MESH_ENOCONV;
 	while (rep->nsolve < GF_TRIES && hh > 0) {
 		rep->nsolve++;
-		int sst = solve(m, p, hh, tol, gmax);
+		int sst = solve(m, p, hh, tol, gmax, o);
 		if (sst == MESH_ENOMEM) {
 			st = sst;
 			break;

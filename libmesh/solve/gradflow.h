@@ -55,6 +55,8 @@ typedef struct {
 	double hmax;   /* longest step (> 0) */
 	double lhalf;  /* a step that makes a junction this long is not taken
 	                  (the mesh format's half-box rule) */
+	int threads;   /* for the solves (min_opts.threads; 0 or 1: one) */
+	int thread_min; /* min_opts.thread_min */
 } gf_opts;
 
 typedef struct {
