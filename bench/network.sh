@@ -12,8 +12,14 @@
 #           (paper Fig. 4C)
 # Usage: bench/network.sh run NAME POINT SEED TIME OPTIONS...  (one run:
 # its trace and CPU seconds into bench/out/network/NAME.*), or
+# bench/network.sh noise NAME SEED TIME SIGMA DT (the Fig. S9 A model at
+# the 4d point: a pure OU process on every tension, no feedback,
+# tis-anneal's noisy stage at dt = dr = DT, the noise on its own grid of
+# 1e-3 so that one seed is one path at every DT, the T1 rule of
+# tis-active's network default: re-T1 below 0.9 of the new length), or
 # bench/network.sh jobs PART (the job list of a part, one 'run' line
-# each, for xargs -P or a batch system: cost, conv, storm, fig4d, t1rule), or
+# each, for xargs -P or a batch system: cost, conv, storm, fig4d, t1rule,
+# s9), or
 # bench/network.sh table PART (the table of RESULTS.md from the runs).
 # CPU seconds are /usr/bin/time's user time; quote them only beside the
 # machine's load.
@@ -48,6 +54,13 @@ run)
 	/usr/bin/time -f %U -o "$out/$name.cpu" tis-active --network $(point "$pt") --seed "$seed" \
 		--time "$time" "$@" --trace-every 1 --trace "$out/$name.tsv" "$m" 2>/dev/null |
 		grep '^history tis-active' >"$out/$name.note" || true
+	;;
+noise)
+	name=$2 seed=$3 time=$4 sig=$5 dt=$6
+	m=$(mesh 4d)
+	/usr/bin/time -f %U -o "$out/$name.cpu" tis-anneal --stage "$sig:$time" --relax 0 \
+		--tau 0.0524934 --ou-dt 1e-3 --dt "$dt" --dr "$dt" --t1-again 0.9 --seed "$seed" \
+		--log "$out/$name.tsv" --log-every 1 "$m" 2>/dev/null | grep '^history tis-anneal' >"$out/$name.note" || true
 	;;
 jobs)
 	case $2 in
@@ -94,6 +107,12 @@ jobs)
 			echo "run t1rule-0.015-on-1-${r%:*} 4d 1 200 --t1-new 0.015 --rtol ${r#*:}"
 			echo "run t1rule-0.03-on-1-${r%:*} 4d 1 20 --t1-new 0.03 --rtol ${r#*:}"
 		done ;;
+	s9)
+		# Fig. S9 A, noise alone, converged: three steps a factor 2 apart
+		# on one noise path per seed (the feedback runs are fig4d)
+		for s in 1 2 3 4 5; do for g in 0.05 0.1 0.2; do for h in 1e-3 5e-4 2.5e-4; do
+			echo "noise s9-$g-$s-$h $s 200 $g $h"
+		done; done; done ;;
 	esac ;;
 table)
 	val() { awk -F'\t' -v t="$2" -v c="$3" '!/^#/ && $1 == t { print $c }' "$out/$1.tsv" 2>/dev/null; }
@@ -125,6 +144,17 @@ table)
 			n=$(basename "$f" .tsv); set -- $(echo "$n" | tr - ' ')
 			printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$3" "$(val "$n" 0 2)" "$(val "$n" 50 2)" "$(val "$n" 200 2)" \
 				"$(val "$n" 200 4)" "$(val "$n" 200 8)"
+		done ;;
+	s9)
+		# tis-anneal logs the first step at or after each time unit (and
+		# the stage's end only when a step lands there): the last row at
+		# or before t + 0.5
+		near() { awk -F'\t' -v t="$2" -v c="$3" '!/^#/ && $1 != "t" && $1 <= t + 0.5 { v = $c } END { print v }' "$out/$1.tsv"; }
+		printf 'sigma\tseed\tdt\tf6_0\tf6_50\tf6_200\tnt1_200\tcpu_s\n'
+		for f in "$out"/s9-*.tsv; do
+			n=$(basename "$f" .tsv); set -- $(echo "$n" | tr - ' ')
+			printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$2" "$3" "${n#s9-$2-$3-}" "$(near "$n" 0 2)" "$(near "$n" 50 2)" \
+				"$(near "$n" 200 2)" "$(near "$n" 200 4)" "$(cat "$out/$n.cpu" 2>/dev/null | tail -1)"
 		done ;;
 	t1rule)
 		printf 't1_new\trearm\tseed\trtol\tt_end\tf6_0\tf6_50\tf6_end\tnt1\tnt1_again\tcpu_s\n'

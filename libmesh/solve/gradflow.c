@@ -32,6 +32,7 @@ static int solve(mesh *m, const model *p, double h, double tol, double gmax,
 	min_opts_init(&mo);
 	mo.threads = o->threads > 1 ? o->threads : 1;
 	mo.thread_min = o->thread_min;
+	mo.precond = m->nv <= GF_PC_NV;
 	mo.prox = 1 / h;
 	mo.ftol = fmax(1e-10, fmin(0.01 * tol / h, 1e-3 * gmax));
 	return mesh_relax(m, p, &mo, NULL);

@@ -48,6 +48,15 @@
 #define GF_WINDOW 1e-3   /* relative: where an event step lands below e */
 #define GF_TRIES 40      /* solves per step at most */
 #define GF_LFRAC 0.1     /* tolerance at most this times the shortest junction */
+/* The solves use mesh_relax's Cholesky preconditioner only on tissues of
+ * at most this many vertices.  A proximal solve is conditioned by
+ * lambda_max h and ends after a few Newton steps, while the factor's
+ * cost grows faster than the tissue (about 100 Hessian products at 324
+ * cells, thousands at 10^4 and more): a quench of 2000 Voronoi cells took
+ * 2.55 CPU s with it and 3.77 without, of 5000 cells 12.7 and 10.5, of
+ * 10^4 32.6 and 17.3, the same cells and energy to 12 digits
+ * (bench/RESULTS.md, tis-anneal). */
+#define GF_PC_NV 8192
 
 typedef struct {
 	double tol;    /* local error per step, a length (> 0) */
