@@ -78,6 +78,51 @@ static int step(int ncell, int nt, int rounds)
 	return !same;
 }
 
+/* The step on one thread, repeated for about sec seconds: the best of
+ * its 0.2 s timings, ns per vertex-step.  Run alone and then in NT
+ * processes at once, it measures what the machine gives NT independent
+ * copies of the step (no sharing, no barriers): the bound of any
+ * threading of it. */
+static int solo(int ncell, double sec)
+{
+	int nx = (int)sqrt((double)ncell);
+	nx += nx % 2;
+	mesh *m;
+	mesh_error err;
+	if (lattice_honeycomb(nx, nx, &m, &err) != MESH_OK) {
+		fprintf(stderr, "threads-bench: %s\n", err.msg);
+		return 1;
+	}
+	unsigned s = 1;
+	for (int i = 0; i < 2 * m->nv; i++) {
+		s = s * 1103515245u + 12345u;
+		m->r[i] += 0.05 * (((s >> 8) & 0xffff) / 32768.0 - 1.0);
+	}
+	const model p = { .p0 = 3.7, .ka = 100 };
+	int n = 2 * m->nv;
+	double *g = malloc(n * sizeof *g), *dg = malloc((m->nj + 1) * sizeof *dg);
+	energy_ws *w = energy_ws_alloc(m);
+	if (!g || !dg || !w) {
+		fprintf(stderr, "threads-bench: out of memory\n");
+		return 1;
+	}
+	for (int j = 0; j < m->nj; j++)
+		dg[j] = 0.01 * sin(1.3 * j);
+	long reps = (long)(2e7 / m->nv) + 1;
+	double best = INFINITY, t_end = now() + sec;
+	do {
+		double t0 = now(), f2;
+		for (long i = 0; i < reps; i++) {
+			mesh_energy_force(m, m->r, &p, dg, g, &f2, w);
+			mesh_euler_move(w, m->nv, m->r, g, 1e-9);
+		}
+		double t = (now() - t0) / ((double)reps * m->nv) * 1e9;
+		best = t < best ? t : best;
+	} while (now() < t_end);
+	printf("solo\t%d\t%d\t%.3f\n", m->nc, m->nv, best);
+	return 0;
+}
+
 static int copy(double mb, int nt, int rounds)
 {
 	size_t n = (size_t)(mb * 1e6 / sizeof(double));
@@ -108,8 +153,10 @@ int main(int argc, char **argv)
 {
 	if (argc == 5 && strcmp(argv[1], "step") == 0)
 		return step(atoi(argv[2]), atoi(argv[3]), atoi(argv[4]));
+	if (argc == 4 && strcmp(argv[1], "solo") == 0)
+		return solo(atoi(argv[2]), atof(argv[3]));
 	if (argc == 5 && strcmp(argv[1], "copy") == 0)
 		return copy(atof(argv[2]), atoi(argv[3]), atoi(argv[4]));
-	fprintf(stderr, "usage: threads-bench step N NT ROUNDS | copy MB NT ROUNDS\n");
+	fprintf(stderr, "usage: threads-bench step N NT ROUNDS | solo N SECONDS | copy MB NT ROUNDS\n");
 	return 2;
 }

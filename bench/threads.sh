@@ -16,7 +16,9 @@
 #      per vertex-step, 324 cells to 10^5, in one process (threads-bench
 #      step): where threads start to pay (ENERGY_PAR_NV, geom.h); again
 #      with OMP_WAIT_POLICY=passive
-#   2. a STREAM-like copy on 1 and NT threads: the memory-bandwidth bound
+#   2. the step alone and in NT independent processes at once: the
+#      machine's bound for any threading of it; a STREAM-like copy on 1
+#      and NT threads: the memory-bandwidth bound
 #   3. tis-anneal, a short noisy stage and a quench on a Lloyd-Voronoi
 #      tissue (10^5 cells: --stage 0.3:0.1 --stage 0:0.1 --relax 0), wall
 #   4. tis-relax of a displaced 316 x 316 honeycomb to 1e-10, wall
@@ -52,6 +54,24 @@ load
 echo "# OMP_WAIT_POLICY=passive"
 for n in $SIZES; do
 	OMP_WAIT_POLICY=passive "$T/threads-bench" step "$n" "$NT" "$ROUNDS"
+done
+load
+# the step in NT independent processes at once against one alone: what
+# the machine gives NT copies that share nothing (the bound of any
+# threading of the step; the copy above is the memory's alone)
+printf 'part\tcells\tprocesses\tns_alone\tns_each_together\tthroughput_ratio\n'
+for n in 16384 100000; do
+	[ "${SHORT:-0}" = 1 ] && [ "$n" = 100000 ] && continue
+	alone=$("$T/threads-bench" solo "$n" 5 | cut -f4)
+	k=0
+	while [ $k -lt "$NT" ]; do
+		"$T/threads-bench" solo "$n" 5 >"$T/solo.$k" &
+		k=$((k + 1))
+	done
+	wait
+	each=$(cat "$T"/solo.* | awk '{ s += $4; c++ } END { printf "%.3f", s / c }')
+	printf 'solo\t%s\t%s\t%s\t%s\t%.3f\n' "$n" "$NT" "$alone" "$each" "$(echo "$NT * $alone / $each" | bc -l)"
+	rm -f "$T"/solo.*
 done
 load
 printf 'part\tMB\tthreads\tGBs_1\tGBs_NT\tratio\n'
