@@ -1,6 +1,6 @@
 /* The adaptive quench (dyn_opts.quench = DYN_QUENCH_ADAPTIVE): T1s
- * located as events (jevent.h), implicit steps once the flow is slow.
- * Checked against second methods: jevent_linear against bisection on
+ * located as events (events.h), implicit steps once the flow is slow.
+ * Checked against second methods: ev_linear against bisection on
  * the junction's length along the step; every T1 of a junction that
  * crossed the threshold from above done within the landing window below
  * it (the paper's steps, for contrast, do theirs wherever the crossing
@@ -16,7 +16,7 @@
 #include "dynamics.h"
 #include "geom.h"
 #include "gradflow.h"
-#include "jevent.h"
+#include "events.h"
 #include "lattice.h"
 #include "measure.h"
 #include "tap.h"
@@ -71,7 +71,7 @@ static double cell_dist(const mesh *a, const mesh *b)
 	return worst;
 }
 
-/* jevent_linear against bisection on |d0 + s dd| over random steps. */
+/* ev_linear against bisection on |d0 + s dd| over random steps. */
 static void linear_cases(void)
 {
 	srand(7);
@@ -80,7 +80,7 @@ static void linear_cases(void)
 	for (int k = 0; k < 20000; k++) {
 		double d0[2] = { 0.03 * (rand() / (double)RAND_MAX - 0.5), 0.03 * (rand() / (double)RAND_MAX - 0.5) };
 		double dd[2] = { 0.04 * (rand() / (double)RAND_MAX - 0.5), 0.04 * (rand() / (double)RAND_MAX - 0.5) };
-		double s = jevent_linear(d0, dd, e, w);
+		double s = ev_linear(d0, dd, e, w);
 		/* the first s in a fine grid at which the length is below e */
 		double l0 = hypot(d0[0], d0[1]), first = INFINITY;
 		for (int i = 1; i <= 100000 && l0 >= e; i++) {
@@ -107,10 +107,10 @@ static void linear_cases(void)
 			double t = s * i / 100.0;
 			before = fmin(before, hypot(d0[0] + t * dd[0], d0[1] + t * dd[1]));
 		}
-		bad += !jevent_landed(l, e, w) || !(first <= s + 1e-5) || before < e * (1 - w);
+		bad += !ev_landed(l, e, w) || !(first <= s + 1e-5) || before < e * (1 - w);
 	}
 	ok(bad == 0 && nev > 1000 && nnone > 1000,
-	   "jevent_linear: %d crossings landed in [e (1 - w), e) at the first crossing, %d steps "
+	   "ev_linear: %d crossings landed in [e (1 - w), e) at the first crossing, %d steps "
 	   "without one, against a grid of 1e5 points per step: %d wrong", nev, nnone, bad);
 }
 

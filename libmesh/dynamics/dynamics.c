@@ -8,7 +8,7 @@
 
 #include "gradflow.h"
 #include "invariants.h"
-#include "jevent.h"
+#include "events.h"
 #include "minimize.h"
 #include "noise.h"
 #include "topology.h"
@@ -482,7 +482,7 @@ static int implicit_step(dyn *d, double t_end, double fmax, double lhalf, double
 
 /* The adaptive quench's explicit step dt from d->f: shortened to the
  * first event, a candidate junction falling through the threshold from
- * above (jevent_linear on the step's linear motion); *ev says so. */
+ * above (ev_linear on the step's linear motion); *ev says so. */
 static double event_dt(dyn *d, double dt, int *ev)
 {
 	const mesh *m = d->m;
@@ -495,7 +495,7 @@ static double event_dt(dyn *d, double dt, int *ev)
 		double d0[2] = { r[2 * b] - r[2 * a] + m->jimg[2 * j],
 				 r[2 * b + 1] - r[2 * a + 1] + m->jimg[2 * j + 1] };
 		double dd[2] = { -dt * (f[2 * b] - f[2 * a]), -dt * (f[2 * b + 1] - f[2 * a + 1]) };
-		double s = jevent_linear(d0, dd, d->o.t1_length, GF_WINDOW);
+		double s = ev_linear(d0, dd, d->o.t1_length, GF_WINDOW);
 		smin = s < smin ? s : smin;
 	}
 	if (smin < 1) {

@@ -62,7 +62,7 @@
  *
  * Adaptive quench (quench = DYN_QUENCH_ADAPTIVE): a stage without noise
  * or feedback is integrated as the gradient flow it is, with T1s located
- * as events (jevent.h) instead of at the end of the step that crossed the
+ * as events (events.h) instead of at the end of the step that crossed the
  * threshold, and with implicit steps once the flow is slow.  Explicit
  * steps (dt_max, dr_max as above, at most DYN_QUENCH_DT) are shortened so that a junction
  * crossing t1_length from above ends the step within GF_WINDOW below it,

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "jevent.h"
+#include "events.h"
 #include "minimize.h"
 
 /* Vector d of junction j (junction_vec) and its squared length, the
@@ -117,11 +117,11 @@ int gf_step(mesh *m, const model *p, const double *g, const gf_opts *o, double *
 			int over = dx * q0[3 * j + 1] + dy * q0[3 * j + 2] <= 0;
 			if (!(q < e) && !over)
 				continue;
-			double s = over ? 0.5 : jevent_secant(sqrt(q0[3 * j]), sqrt(q), sqrt(e), GF_WINDOW);
+			double s = over ? 0.5 : ev_secant(sqrt(q0[3 * j]), sqrt(q), sqrt(e), GF_WINDOW);
 			if (s < smin || (s == smin && j < jev)) {
 				smin = s;
 				jev = j;
-				inwin = !over && jevent_landed(sqrt(q), sqrt(e), GF_WINDOW);
+				inwin = !over && ev_landed(sqrt(q), sqrt(e), GF_WINDOW);
 			}
 		}
 		if (!(l2max < o->lhalf * o->lhalf)) {

@@ -31,7 +31,7 @@
  * that would carry a junction from at least lev to below it, or shorten
  * one that starts below lev, or turn one over, is shortened (secant on
  * that junction's length as a function of h, the first such junction by
- * the secant's estimate, jevent.h) until that junction ends in
+ * the secant's estimate, events.h) until that junction ends in
  * [e (1 - GF_WINDOW), e), e = lev or its starting length if that is
  * shorter.  The shortened
  * step is accepted and reported as an event: the caller's T1 test then
