@@ -112,6 +112,37 @@ static int hessian_same(const mesh *m, int nt)
 	return same;
 }
 
+/* Hessian-vector products on nt threads (the gathering form) against
+ * one (the scattering loop), bit for bit, for several vectors at one
+ * point and again after the point moved. */
+static int hessvec_same(mesh *m, int nt)
+{
+	const model p = { .p0 = 3.7, .ka = 100 };
+	int n = 2 * m->nv, same = 1;
+	hessian_ws *w1 = hessian_ws_alloc(m), *wn = hessian_ws_alloc(m);
+	double *v = malloc(n * sizeof *v), *h1 = malloc(n * sizeof *h1), *hn = malloc(n * sizeof *hn);
+	if (!w1 || !wn || !v || !h1 || !hn || hessian_ws_threads(wn, m, nt, 1) != MESH_OK)
+		same = 0;
+	for (int round = 0; round < 2 && same; round++) {
+		mesh_hessvec_prepare(m, m->r, &p, w1);
+		mesh_hessvec_prepare(m, m->r, &p, wn);
+		for (int q = 0; q < 3 && same; q++) {
+			for (int i = 0; i < n; i++)
+				v[i] = sin(0.37 * i + q) * (i % 7 == q);
+			mesh_hessvec_prepared(m, &p, v, h1, w1);
+			mesh_hessvec_prepared(m, &p, v, hn, wn);
+			same = memcmp(h1, hn, n * sizeof *h1) == 0;
+		}
+		perturb(m, 0.01, 9);
+	}
+	hessian_ws_free(w1);
+	hessian_ws_free(wn);
+	free(v);
+	free(h1);
+	free(hn);
+	return same;
+}
+
 /* m with its cells in a random order, so that its junctions (numbered as
  * the cells are read) are too. */
 static mesh *shuffled(const mesh *m)
@@ -145,7 +176,7 @@ static mesh *shuffled(const mesh *m)
 
 int main(void)
 {
-	tap_plan(11);
+	tap_plan(13);
 	mesh_error err;
 	mesh *small = NULL, *mid = NULL, *big = NULL;
 	/* 324 cells: one block of W; 60 x 60 = 3600 cells, four; 200 x 200,
@@ -175,6 +206,9 @@ int main(void)
 	ok(hessian_same(mid, 2) && hessian_same(mid, 3) && hessian_same(small, 7),
 	   "sparse Hessian and Schwarz factors on 2, 3, 7 threads bit for bit as on 1");
 	ok(sh && hessian_same(sh, 3), "the same with the cells in random order");
+	ok(hessvec_same(mid, 2) && hessvec_same(mid, 3) && hessvec_same(small, 7),
+	   "Hessian-vector products on 2, 3, 7 threads bit for bit as on 1");
+	ok(sh && hessvec_same(sh, 2), "the same with the cells in random order");
 	energy_ws *w = energy_ws_alloc(small);
 	ok(w && energy_ws_threads(w, 0, 0) == MESH_EDOM &&
 	   energy_ws_threads(w, ENERGY_MAXTHREADS + 1, 0) == MESH_EDOM &&

@@ -13,6 +13,16 @@ struct hessian_ws {
 	double *jd;   /* 3 per junction: dx, dy, l */
 	double *cc;   /* 2 per cell: dW/dA = 2 ka (A - 1), dW/dP = 2 (P - p0) */
 	double *dc;   /* 2 per cell: their derivatives along v, 2 ka A', 2 P' */
+	/* On threads (hessian_ws_threads): the product gathers instead of
+	 * scattering, each cell's and each vertex's terms added in the serial
+	 * loop's order (ascending junction, a cell's L side before its R
+	 * side), so that the bytes are the serial product's.  The lists are
+	 * made at each prepare, so they follow T1s. */
+	int nthr, par_nv;
+	int *cofs, *centry;   /* nc + 1 offsets; 2 nj entries 2 j + (cell is R) */
+	int *vofs, *ventry;   /* nv + 1 offsets; 2 nj entries 2 j + (vertex is b) */
+	double *jq;           /* 2 per junction: its terms of A' and P' */
+	double *jt;           /* 4 per junction: its terms of (H v)_a, (H v)_b */
 };
 
 hessian_ws *hessian_ws_alloc(const mesh *m)
@@ -20,6 +30,7 @@ hessian_ws *hessian_ws_alloc(const mesh *m)
 	hessian_ws *w = malloc(sizeof *w);
 	if (w == NULL)
 		return NULL;
+	*w = (hessian_ws){ .nthr = 1 };
 	w->jd = malloc((3 * (size_t)m->nj + 1) * sizeof *w->jd);
 	w->cc = malloc((2 * (size_t)m->nc + 1) * sizeof *w->cc);
 	w->dc = malloc((2 * (size_t)m->nc + 1) * sizeof *w->dc);
@@ -37,7 +48,76 @@ void hessian_ws_free(hessian_ws *w)
 	free(w->jd);
 	free(w->cc);
 	free(w->dc);
+	free(w->cofs);
+	free(w->centry);
+	free(w->vofs);
+	free(w->ventry);
+	free(w->jq);
+	free(w->jt);
 	free(w);
+}
+
+int hessian_ws_threads(hessian_ws *w, const mesh *m, int n, int min_nv)
+{
+	if (n < 1 || n > ENERGY_MAXTHREADS)
+		return MESH_EDOM;
+#ifndef _OPENMP
+	n = 1;
+#endif
+	w->par_nv = min_nv > 0 ? min_nv : ENERGY_PAR_NV;
+	w->nthr = 1;
+	if (n == 1)
+		return MESH_OK;
+	size_t nj = (size_t)m->nj + 1;
+	free(w->cofs);
+	free(w->centry);
+	free(w->vofs);
+	free(w->ventry);
+	free(w->jq);
+	free(w->jt);
+	w->cofs = malloc(((size_t)m->nc + 1) * sizeof *w->cofs);
+	w->vofs = malloc(((size_t)m->nv + 1) * sizeof *w->vofs);
+	w->centry = malloc(2 * nj * sizeof *w->centry);
+	w->ventry = malloc(2 * nj * sizeof *w->ventry);
+	w->jq = malloc(2 * nj * sizeof *w->jq);
+	w->jt = malloc(4 * nj * sizeof *w->jt);
+	if (!w->cofs || !w->vofs || !w->centry || !w->ventry || !w->jq || !w->jt)
+		return MESH_ENOMEM;   /* nthr stays 1: serially, the same numbers */
+	w->nthr = n;
+	return MESH_OK;
+}
+
+/* The lists of the gathering product, in the serial loop's order: entries
+ * appended by ascending junction, each junction's L (a) before its R (b). */
+static void gather_lists(const mesh *m, hessian_ws *w)
+{
+	const int nj = m->nj, nc = m->nc, nv = m->nv;
+	int *co = w->cofs, *vo = w->vofs;
+	memset(co, 0, ((size_t)nc + 1) * sizeof *co);
+	memset(vo, 0, ((size_t)nv + 1) * sizeof *vo);
+	for (int j = 0; j < nj; j++) {
+		co[m->jc[2 * j] + 1]++;
+		co[m->jc[2 * j + 1] + 1]++;
+		vo[m->jv[2 * j] + 1]++;
+		vo[m->jv[2 * j + 1] + 1]++;
+	}
+	for (int k = 0; k < nc; k++)
+		co[k + 1] += co[k];
+	for (int v = 0; v < nv; v++)
+		vo[v + 1] += vo[v];
+	/* fill from the front; the offsets move one slot per entry and are
+	 * shifted back after */
+	for (int j = 0; j < nj; j++)
+		for (int s = 0; s < 2; s++) {
+			w->centry[co[m->jc[2 * j + s]]++] = 2 * j + s;
+			w->ventry[vo[m->jv[2 * j + s]]++] = 2 * j + s;
+		}
+	for (int k = nc; k > 0; k--)
+		co[k] = co[k - 1];
+	co[0] = 0;
+	for (int v = nv; v > 0; v--)
+		vo[v] = vo[v - 1];
+	vo[0] = 0;
 }
 
 /* The gradient (see mesh_energy) is, per junction a->b with vector d, ccw in
@@ -61,11 +141,100 @@ void mesh_hessvec_prepare(const mesh *m, const double *r, const model *p,
 {
 	mesh_junction_vectors(m, r, w->jd);
 	mesh_cell_factors(m, r, p, w->jd, w->cc);
+	if (w->nthr > 1 && m->nv >= w->par_nv)
+		gather_lists(m, w);
+}
+
+/* Junction j's terms of the product (both forms, the same expressions):
+ * q[0] = perp(d)/2 . (v_a + v_b) and q[1] = u . d', its parts of the
+ * cells' A' and P'; then t[0..1] its part of (H v)_a, t[2..3] of (H v)_b. */
+static inline void junction_dcell(const int *jv, const double *jd, const double *v, int j,
+                                  double q[2])
+{
+	int a = jv[2 * j], b = jv[2 * j + 1];
+	double dx = jd[3 * j], dy = jd[3 * j + 1], l = jd[3 * j + 2];
+	double sx = v[2 * a] + v[2 * b], sy = v[2 * a + 1] + v[2 * b + 1];
+	double ddx = v[2 * b] - v[2 * a], ddy = v[2 * b + 1] - v[2 * a + 1];
+	q[0] = 0.5 * (dy * sx - dx * sy);
+	q[1] = (dx * ddx + dy * ddy) / l;
+}
+
+static inline void junction_hv(const int *jv, const int *jc, const double *jd,
+                               const double *cc, const double *dc, const double *v, int j,
+                               double t[4])
+{
+	int a = jv[2 * j], b = jv[2 * j + 1];
+	int L = jc[2 * j], R = jc[2 * j + 1];
+	double dx = jd[3 * j], dy = jd[3 * j + 1], l = jd[3 * j + 2];
+	double ddx = v[2 * b] - v[2 * a], ddy = v[2 * b + 1] - v[2 * a + 1];
+	double h = 0.5 * (cc[2 * L] - cc[2 * R]);
+	double tt = (cc[2 * L + 1] + cc[2 * R + 1]) / l;
+	double hd = 0.5 * (dc[2 * L] - dc[2 * R]);
+	double td = (dc[2 * L + 1] + dc[2 * R + 1]) / l;
+	double c = (dx * ddx + dy * ddy) / (l * l);
+	double px = hd * dy + h * ddy, py = -hd * dx - h * ddx;
+	double tx = td * dx + tt * (ddx - c * dx);
+	double ty = td * dy + tt * (ddy - c * dy);
+	t[0] = px - tx;
+	t[1] = py - ty;
+	t[2] = px + tx;
+	t[3] = py + ty;
+}
+
+/* mesh_hessvec_prepared on w->nthr threads: the serial loops' terms per
+ * junction, then per cell and per vertex their sums in the serial order. */
+static void hessvec_gather(const mesh *m, const model *p, const double *v, double *hv,
+                           hessian_ws *w)
+{
+	const int nj = m->nj, nc = m->nc, nv = m->nv;
+	const int *jv = m->jv, *jc = m->jc;
+	const double ka = p->ka;
+	const double *jd = w->jd, *cc = w->cc;
+	double *dc = w->dc, *jq = w->jq, *jt = w->jt;
+	const int *co = w->cofs, *ce = w->centry, *vo = w->vofs, *ve = w->ventry;
+#pragma omp parallel num_threads(w->nthr)
+	{
+#pragma omp for schedule(static)
+		for (int j = 0; j < nj; j++)
+			junction_dcell(jv, jd, v, j, jq + 2 * j);
+#pragma omp for schedule(static)
+		for (int k = 0; k < nc; k++) {
+			double sa = 0, sp = 0;
+			for (int e = co[k]; e < co[k + 1]; e++) {
+				int j = ce[e] >> 1;
+				if (ce[e] & 1)
+					sa -= jq[2 * j];
+				else
+					sa += jq[2 * j];
+				sp += jq[2 * j + 1];
+			}
+			dc[2 * k] = sa * (2 * ka);
+			dc[2 * k + 1] = sp * 2;
+		}
+#pragma omp for schedule(static)
+		for (int j = 0; j < nj; j++)
+			junction_hv(jv, jc, jd, cc, dc, v, j, jt + 4 * j);
+#pragma omp for schedule(static)
+		for (int u = 0; u < nv; u++) {
+			double sx = 0, sy = 0;
+			for (int e = vo[u]; e < vo[u + 1]; e++) {
+				const double *q = jt + 4 * (ve[e] >> 1) + 2 * (ve[e] & 1);
+				sx += q[0];
+				sy += q[1];
+			}
+			hv[2 * u] = sx;
+			hv[2 * u + 1] = sy;
+		}
+	}
 }
 
 void mesh_hessvec_prepared(const mesh *m, const model *p, const double *v,
                            double *hv, hessian_ws *w)
 {
+	if (w->nthr > 1 && m->nv >= w->par_nv) {
+		hessvec_gather(m, p, v, hv, w);
+		return;
+	}
 	const int nj = m->nj, nc = m->nc;
 	const int *jv = m->jv, *jc = m->jc;
 	const double ka = p->ka;
@@ -75,17 +244,13 @@ void mesh_hessvec_prepared(const mesh *m, const model *p, const double *v,
 	for (int k = 0; k < nc; k++)
 		dc[2 * k] = dc[2 * k + 1] = 0;
 	for (int j = 0; j < nj; j++) {
-		int a = jv[2 * j], b = jv[2 * j + 1];
 		int L = jc[2 * j], R = jc[2 * j + 1];
-		double dx = jd[3 * j], dy = jd[3 * j + 1], l = jd[3 * j + 2];
-		double sx = v[2 * a] + v[2 * b], sy = v[2 * a + 1] + v[2 * b + 1];
-		double ddx = v[2 * b] - v[2 * a], ddy = v[2 * b + 1] - v[2 * a + 1];
-		double da = 0.5 * (dy * sx - dx * sy);  /* perp(d)/2 . (v_a + v_b) */
-		double dp = (dx * ddx + dy * ddy) / l;  /* u . d' */
-		dc[2 * L] += da;
-		dc[2 * R] -= da;
-		dc[2 * L + 1] += dp;
-		dc[2 * R + 1] += dp;
+		double q[2];
+		junction_dcell(jv, jd, v, j, q);
+		dc[2 * L] += q[0];
+		dc[2 * R] -= q[0];
+		dc[2 * L + 1] += q[1];
+		dc[2 * R + 1] += q[1];
 	}
 	for (int k = 0; k < nc; k++) {
 		dc[2 * k] *= 2 * ka;
@@ -95,21 +260,12 @@ void mesh_hessvec_prepared(const mesh *m, const model *p, const double *v,
 		hv[i] = 0;
 	for (int j = 0; j < nj; j++) {
 		int a = jv[2 * j], b = jv[2 * j + 1];
-		int L = jc[2 * j], R = jc[2 * j + 1];
-		double dx = jd[3 * j], dy = jd[3 * j + 1], l = jd[3 * j + 2];
-		double ddx = v[2 * b] - v[2 * a], ddy = v[2 * b + 1] - v[2 * a + 1];
-		double h = 0.5 * (cc[2 * L] - cc[2 * R]);
-		double t = (cc[2 * L + 1] + cc[2 * R + 1]) / l;
-		double hd = 0.5 * (dc[2 * L] - dc[2 * R]);
-		double td = (dc[2 * L + 1] + dc[2 * R + 1]) / l;
-		double c = (dx * ddx + dy * ddy) / (l * l);
-		double px = hd * dy + h * ddy, py = -hd * dx - h * ddx;
-		double tx = td * dx + t * (ddx - c * dx);
-		double ty = td * dy + t * (ddy - c * dy);
-		hv[2 * a] += px - tx;
-		hv[2 * a + 1] += py - ty;
-		hv[2 * b] += px + tx;
-		hv[2 * b + 1] += py + ty;
+		double t[4];
+		junction_hv(jv, jc, jd, cc, dc, v, j, t);
+		hv[2 * a] += t[0];
+		hv[2 * a + 1] += t[1];
+		hv[2 * b] += t[2];
+		hv[2 * b + 1] += t[3];
 	}
 }
 

@@ -16,6 +16,12 @@
 typedef struct hessian_ws hessian_ws;
 hessian_ws *hessian_ws_alloc(const mesh *m);
 void hessian_ws_free(hessian_ws *w);
+/* Products on n threads (the calling one among them) on tissues of at
+ * least min_nv vertices (<= 0: ENERGY_PAR_NV), the same bytes as on one
+ * (each sum in the serial order); m gives the counts, the lists follow
+ * the mesh at each prepare.  MESH_EDOM (n outside 1..ENERGY_MAXTHREADS),
+ * MESH_ENOMEM (w then stays on one thread). */
+int hessian_ws_threads(hessian_ws *w, const mesh *m, int n, int min_nv);
 
 /* hv = H v, H the Hessian of W at r (2*nv by 2*nv), v and hv 2*nv values
  * (hv must not alias v).  No allocation. */

@@ -624,6 +624,9 @@ typedef struct {
 	int hs_threads;       /* min_opts.threads and thread_min, for hs */
 	int thread_min;
 	int have;             /* ch or sw holds a factor */
+	double *xprep;        /* the x hw was last prepared at (NULL: out of
+	                         memory, prepare at every product) */
+	int have_prep;        /* xprep holds it */
 	double prox;          /* min_opts.prox: weight of |x - x0|^2 / 2 */
 	const double *x0;     /* its centre (the mesh's coordinates) */
 } relax_ctx;
@@ -647,7 +650,18 @@ static double relax_f(const double *x, double *grad, void *data)
 static void relax_hv(const double *x, const double *v, double *hv, void *data)
 {
 	relax_ctx *rc = data;
-	mesh_hessvec(rc->m, x, rc->p, v, hv, rc->hw);
+	/* the CG of a Newton step multiplies at one x many times: the
+	 * junction vectors and cell factors are made once per x (about half
+	 * of a product's cost) */
+	size_t n = 2 * (size_t)rc->m->nv;
+	if (!rc->have_prep || memcmp(x, rc->xprep, n * sizeof *x) != 0) {
+		mesh_hessvec_prepare(rc->m, x, rc->p, rc->hw);
+		if (rc->xprep != NULL) {
+			memcpy(rc->xprep, x, n * sizeof *x);
+			rc->have_prep = 1;
+		}
+	}
+	mesh_hessvec_prepared(rc->m, rc->p, v, hv, rc->hw);
 	if (rc->prox > 0)
 		for (int i = 0; i < 2 * rc->m->nv; i++)
 			hv[i] += rc->prox * v[i];
@@ -843,12 +857,15 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 	if (oo.threads > 1) {
 		if (rc.ew)
 			energy_ws_threads(rc.ew, oo.threads, oo.thread_min);
+		if (rc.hw)
+			hessian_ws_threads(rc.hw, m, oo.threads, oo.thread_min);
 		rc.hs_threads = oo.threads;
 		rc.thread_min = oo.thread_min;
 		if (m->nv >= (oo.thread_min > 0 ? oo.thread_min : ENERGY_PAR_NV))
 			rc.threads = oo.threads;
 	}
 	double *x = malloc(2 * (size_t)m->nv * sizeof *x);
+	rc.xprep = malloc(2 * (size_t)m->nv * sizeof *rc.xprep);
 	int st = MESH_ENOMEM;
 	if (rc.ew && rc.hw && x) {
 		memcpy(x, m->r, 2 * (size_t)m->nv * sizeof *x);
@@ -867,6 +884,7 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 		}
 	}
 	free(x);
+	free(rc.xprep);
 	energy_ws_free(rc.ew);
 	hessian_ws_free(rc.hw);
 	hessian_sparse_free(rc.hs);
