@@ -71,6 +71,8 @@ typedef struct {
 	double fcur, gcur;            /* objective and force where a stage ended */
 	double *w1, *w2, *w3;         /* finite-difference Hessian scratch */
 	nlopt_opt nl;
+	int nt;                       /* threads of Newton-CG's vector work */
+	double *part;                 /* cdot's block sums */
 } ctx;
 
 static double dot(int n, const double *a, const double *b)
@@ -79,6 +81,51 @@ static double dot(int n, const double *a, const double *b)
 	for (int i = 0; i < n; i++)
 		s += a[i] * b[i];
 	return s;
+}
+
+/* Newton-CG's inner products and maxima, on c->nt threads: each block of
+ * CG_BLOCK values summed in order, then the blocks' sums in order, so the
+ * bytes are the same for any thread count (and the plain dot's for n up
+ * to CG_BLOCK).  Out of cache a CG iteration's vector passes cost about
+ * as much as its Hessian product, so they must run on threads too. */
+#define CG_BLOCK 4096
+
+static double cdot(ctx *c, const double *a, const double *b)
+{
+	const int n = c->n, nb = (n + CG_BLOCK - 1) / CG_BLOCK;
+	double *part = c->part;
+#pragma omp parallel for num_threads(c->nt) if (c->nt > 1) schedule(static)
+	for (int k = 0; k < nb; k++) {
+		int i1 = (k + 1) * CG_BLOCK < n ? (k + 1) * CG_BLOCK : n;
+		double sk = 0;
+		for (int i = k * CG_BLOCK; i < i1; i++)
+			sk += a[i] * b[i];
+		part[k] = sk;
+	}
+	double sum = 0;
+	for (int k = 0; k < nb; k++)
+		sum += part[k];
+	return sum;
+}
+
+static double pair_max(int n, const double *v);
+
+/* pair_max by blocks (of an even size, so no pair is split): a maximum
+ * is exact in any order, and NaN wins in every block and across them. */
+static double cpair_max(ctx *c, const double *v)
+{
+	const int n = c->n, nb = (n + CG_BLOCK - 1) / CG_BLOCK;
+	double *part = c->part;
+#pragma omp parallel for num_threads(c->nt) if (c->nt > 1) schedule(static)
+	for (int k = 0; k < nb; k++) {
+		int i0 = k * CG_BLOCK, i1 = i0 + CG_BLOCK < n ? i0 + CG_BLOCK : n;
+		part[k] = pair_max(i1 - i0, v + i0);
+	}
+	double m = 0;
+	for (int k = 0; k < nb; k++)
+		if (!(part[k] <= m))
+			m = isnan(part[k]) || isnan(m) ? NAN : part[k];
+	return m;
 }
 
 /* Largest Euclidean norm of consecutive pairs (a lone last value counts
@@ -394,40 +441,43 @@ static int stage_newton(ctx *c, double *xio)
 				canpc = 0;  /* cannot be built here: plain CG from now on */
 		}
 		rebuild = 0;
-		double g2 = dot(n, g, g);
+		double g2 = cdot(c, g, g);
 		double eta = fmin(0.5, sqrt(sqrt(g2)));
 		/* No more accuracy than the tolerance asks for: the residual
 		 * of the linear solve is the next gradient to first order, and
 		 * a force measure is at most its 2-norm. */
 		double rstop = fmax(eta * sqrt(g2), 0.25 * c->o->ftol);
+#pragma omp parallel for num_threads(c->nt) if (c->nt > 1) schedule(static)
 		for (int i = 0; i < n; i++) {
 			s[i] = 0;
 			r[i] = -g[i];
 		}
 		const double *zz = usepc && c->o->pcapply(r, z, c->data) == 0 ? z : r;
 		memcpy(p, zz, n * sizeof *p);
-		double rz = dot(n, r, zz);
+		double rz = cdot(c, r, zz);
 		int k;
 		for (k = 0; k < n + 10 && budget_left(c); k++) {
 			hessvec(c, x, p, hp);
-			double php = dot(n, p, hp);
+			double php = cdot(c, p, hp);
 			if (!(php > 0)) {
 				if (k == 0)
 					memcpy(s, p, n * sizeof *s);
 				break;
 			}
 			double al = rz / php;
+#pragma omp parallel for num_threads(c->nt) if (c->nt > 1) schedule(static)
 			for (int i = 0; i < n; i++) {
 				s[i] += al * p[i];
 				r[i] -= al * hp[i];
 			}
-			if (pair_max(n, s) > smax)
+			if (cpair_max(c, s) > smax)
 				break;
-			double rrn = dot(n, r, r);
+			double rrn = cdot(c, r, r);
 			if (sqrt(rrn) <= rstop)
 				break;
 			zz = usepc && c->o->pcapply(r, z, c->data) == 0 ? z : r;
-			double rzn = dot(n, r, zz);
+			double rzn = cdot(c, r, zz);
+#pragma omp parallel for num_threads(c->nt) if (c->nt > 1) schedule(static)
 			for (int i = 0; i < n; i++)
 				p[i] = zz[i] + rzn / rz * p[i];
 			rz = rzn;
@@ -438,13 +488,13 @@ static int stage_newton(ctx *c, double *xio)
 		if (canpc && k >= (usepc ? c->o->pcmaxit : PC_PLAIN) &&
 		    c->nhv - hvbuild >= PC_AMORT)
 			rebuild = 1;
-		double gs = dot(n, g, s);
+		double gs = cdot(c, g, s);
 		if (!(gs < 0)) {
 			for (int i = 0; i < n; i++)
 				s[i] = -g[i];
 			gs = -g2;
 		}
-		double mv = pair_max(n, s);
+		double mv = cpair_max(c, s);
 		if (mv > smax) {
 			for (int i = 0; i < n; i++)
 				s[i] *= smax / mv;
@@ -453,6 +503,7 @@ static int stage_newton(ctx *c, double *xio)
 		int accepted = 0;
 		double ft = f, gnt = gn;
 		for (double al = 1; al > 1e-12 && budget_left(c); al *= 0.5) {
+#pragma omp parallel for num_threads(c->nt) if (c->nt > 1) schedule(static)
 			for (int i = 0; i < n; i++)
 				xt[i] = x[i] + al * s[i];
 			ft = eval(c, xt, gt, &gnt);
@@ -526,7 +577,10 @@ int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
 	    !(o->ftol >= 0) || !isfinite(o->ftol) || o->maxeval < 1)
 		return MESH_EDOM;
 
-	ctx c = { .n = n, .f = f, .data = data, .o = o };
+	ctx c = { .n = n, .f = f, .data = data, .o = o, .nt = 1 };
+	if (o->threads > 1 && n / 2 >= (o->thread_min > 0 ? o->thread_min : ENERGY_PAR_NV))
+		c.nt = o->threads;
+	c.part = malloc(((size_t)n / CG_BLOCK + 2) * sizeof *c.part);
 	size_t sz = (size_t)n * sizeof(double);
 	c.g = malloc(sz);
 	c.xbest = malloc(sz);
@@ -537,7 +591,7 @@ int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
 		c.w3 = malloc(sz);
 	}
 	int st = MESH_ENOMEM;
-	if (c.g == NULL || c.xbest == NULL || c.xconv == NULL ||
+	if (c.g == NULL || c.xbest == NULL || c.xconv == NULL || c.part == NULL ||
 	    (o->hessvec == NULL && (c.w1 == NULL || c.w2 == NULL || c.w3 == NULL)))
 		goto out;
 
@@ -595,6 +649,7 @@ out:
 	free(c.xbest);
 	free(c.xconv);
 	free(c.w1);
+	free(c.part);
 	free(c.w2);
 	free(c.w3);
 	return st;

@@ -100,7 +100,8 @@ typedef struct {
 	                      (gradflow.h).  Then the coordinates are not
 	                      wrapped into the box, so that r - r0 is the
 	                      step's displacement */
-	int threads;       /* mesh_relax: threads for its kernel, Hessian and
+	int threads;       /* threads for Newton-CG's vector work and, in
+	                      mesh_relax, its kernel, Hessian products and
 	                      preconditioner (1, the default: none; the
 	                      numbers do not depend on it, geom.h) */
 	int thread_min;    /* on a tissue of at least this many vertices
