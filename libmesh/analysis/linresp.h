@@ -22,15 +22,15 @@
  *    nzero.  These are the dense path's counts whenever no eigenvalue lies
  *    within the factorization's backward error of +-tol; that error is a
  *    few rounding units times the growth of |L| |D| |L^T| (ldl_growth),
- *    measured below 1 times max |lambda| on the suite's tissues, against
- *    tol = 1e-10 times it.
+ *    measured at 0.2 to 4.4 times max |lambda| on the suite's tissues
+ *    (324 to 5184 cells), against tol = 1e-10 times it.
  * 3. nzero = 0 (every rigid tissue): the null space of H is the two
  *    translations alone, to which g is orthogonal (its entries sum to
  *    zero), so H x = g has solutions x + T and g^T x = g^T H^+ g for any
  *    of them.  Pinning vertex 0 (its two rows and columns replaced by
- *    the identity, its entries of g dropped: their equations follow from
- *    the others because every column of H and g sums to zero) makes the
- *    matrix nonsingular, and g^T H^+ g = y^T D^{-1} y with y = L^{-1} P g:
+ *    max |lambda| times the identity, its entries of g dropped: their
+ *    equations follow from the others because every column of H and g
+ *    sums to zero) makes the matrix nonsingular, and g^T H^+ g = y^T D^{-1} y with y = L^{-1} P g:
  *    exact, with no shift and no threshold, whatever the spectrum above
  *    tol, negative modes included.  gnull = 0, as in the dense path,
  *    which has no zero mode to put weight on.  One factorization; per
