@@ -126,8 +126,9 @@ double fl_force(const mesh *m, const double *r, const model *p, int j,
  * dense path); memory about linear in nv.
  *
  * FL_LIN_AUTO: sparse, which is the faster at every size measured (8 to
- * 20736 vertices: 0.08 against 0.10 ms on 8, 68 against 620 ms on 648,
- * 1.2-2.5 against 45-56 s on 2592; bench/RESULTS.md, tis-forcelen).
+ * 2592 vertices, where both ran: 0.080 against 0.098 ms of CPU on 8, 68
+ * against 620 ms on 648, 0.7-2.3 against 25-32 s on 2592; no crossover,
+ * bench/RESULTS.md, tis-forcelen).
  * Where it cannot certify its answer (eigenvalues within a factor 10 of
  * the zero cut, or a factorization that fails: a mesh not at rest, or at
  * a rigidity transition) the dense path decides by the cut itself, and on
