@@ -1,8 +1,9 @@
 #!/bin/sh
 # The memory limit of the dense work (--max-memory): tis-stability (the
 # Hessian decomposition, --dense, --network) and tis-forcelen --linear
-# refuse a mesh whose dense work needs more, with one line and nothing on
-# stdout; a mesh that fits gives the rows it gives without a limit; a
+# --linear-method dense refuse a mesh whose dense work needs more, with
+# one line and nothing on stdout; a mesh that fits gives the rows it
+# gives without a limit (and the same as the default, sparse, method); a
 # stream stops at the first mesh refused, after whole rows; bad sizes are
 # usage errors; by default the limit is the memory available (here the
 # ulimit -v); dsyevd is refused beyond 16383 vertices.
@@ -10,7 +11,7 @@
 plan 26
 
 # 72 vertices, n = 144: the decomposition needs 24 n^2 + 76 n + 20 =
-# 508628 bytes, tis-forcelen --linear 4 n more (509204); with --dense
+# 508628 bytes, tis-forcelen's dense --linear 4 n more (509204); with --dense
 # 995 kB, the network Jacobian (size 252) 2.3 MB (stability.h)
 tis-hex 6 6 --p0 3.65 >"$T/h6.mesh"
 tis-hex 12 12 --p0 3.65 >"$T/h12.mesh"
@@ -51,13 +52,14 @@ ok "a stream: the second mesh refused, exit 1, one line" \
 ok "... after the first mesh's two whole rows" sh -c "
 	test \$(grep -v '^#' '$T/s.tsv' | awk 'NR > 1' | wc -l) = 2 && test \$(tail -c 1 '$T/s.tsv' | wc -l) = 1"
 
-# tis-forcelen --linear: the same decomposition and a vector more.
-fails_with 1 "tis-forcelen --linear --max-memory 509k: refused (509.2 kB), one line" \
-	tis-forcelen --linear --all --max-memory 509k "$T/h6.mesh"
+# tis-forcelen --linear --linear-method dense: the same decomposition and
+# a vector more (the default, sparse, needs no dense work).
+fails_with 1 "tis-forcelen --linear --linear-method dense --max-memory 509k: refused (509.2 kB), one line" \
+	tis-forcelen --linear --linear-method dense --all --max-memory 509k "$T/h6.mesh"
 ok "... nothing on stdout, the message names the linear response" sh -c "test ! -s '$T/out' &&
 	grep -q 'needs 509.2 kB for the exact linear response' '$T/err'"
 tis-forcelen --linear --all "$T/h6.mesh" >"$T/lfree.tsv"
-tis-forcelen --linear --all --max-memory 510k "$T/h6.mesh" >"$T/lfit.tsv"; st=$?
+tis-forcelen --linear --linear-method dense --all --max-memory 510k "$T/h6.mesh" >"$T/lfit.tsv"; st=$?
 body "$T/lfit.tsv" >"$T/a"
 body "$T/lfree.tsv" >"$T/b"
 ok "--max-memory 510k: exit 0, the same 108 rows as without a limit" sh -c "test $st -eq 0 &&

@@ -2,13 +2,17 @@
  * of the swept energies, the slope at l0 against the second difference of
  * the relaxed energy and against the exact linear response, no hysteresis
  * on a stable honeycomb, the same curve from two minimizers, a junction
- * across the periodic boundary, point counts, bad arguments. */
+ * across the periodic boundary, point counts, bad arguments; the sparse
+ * linear response (ldl, linresp) against the dense one. */
 #include <math.h>
 #include <stdlib.h>
 
 #include <gsl/gsl_errno.h>
 
 #include "forcelen.h"
+#include "hessian.h"
+#include "ldl.h"
+#include "linresp.h"
 #include "lattice.h"
 #include "tap.h"
 
@@ -31,10 +35,95 @@ static const fl_point *at(const fl_point *pts, int n, int dir, double l)
 	return NULL;
 }
 
+/* The sparse linear response against the dense one on every junction
+ * (the junctions at the pinned vertex 0 among them): the same counts,
+ * a1 = 0 set and a1 to 1e-9.  Returns the worst relative a1 difference,
+ * or INFINITY on any other difference. */
+static double sparse_vs_dense(const mesh *m, const model *p, int *nneg)
+{
+	fl_linear *ld, *ls;
+	mesh_error err;
+	if (fl_linear_alloc_method(m, p, 1e-10, FL_LIN_DENSE, INFINITY, &ld, &err) != MESH_OK)
+		return INFINITY;
+	if (fl_linear_alloc_method(m, p, 1e-10, FL_LIN_SPARSE, INFINITY, &ls, &err) != MESH_OK) {
+		fl_linear_free(ld);
+		return INFINITY;
+	}
+	double worst = 0;
+	for (int j = 0; j < m->nj; j++) {
+		fl_lin_result rd, rs;
+		fl_linear_a1(ld, m, j, &rd);
+		fl_linear_a1(ls, m, j, &rs);
+		*nneg = rs.nneg;
+		if (rd.nzero != rs.nzero || rd.nneg != rs.nneg || (rd.a1 == 0) != (rs.a1 == 0) ||
+		    !rs.sure)
+			worst = INFINITY;
+		else if (rd.a1 != 0)
+			worst = fmax(worst, fabs(rs.a1 - rd.a1) / fabs(rd.a1));
+	}
+	fl_linear_free(ld);
+	fl_linear_free(ls);
+	return worst;
+}
+
+/* ldl: inertia against the dense eigenvalues, the forward-only form
+ * against a whole solve, bad arguments; linresp against the dense path. */
+static void sparse_checks(const mesh *m, const model *p, const model *saddle)
+{
+	int n = 2 * m->nv, nneg = -1;
+	double *d = malloc((size_t)n * sizeof *d), *u = malloc((size_t)n * n * sizeof *u);
+	mesh_hessian_eigen(m, m->r, saddle, HESS_EIG_LAPACK, d, u);
+	hessian_sparse *hs = hessian_sparse_alloc(m);
+	mesh_hessian_sparse(m, m->r, saddle, hs);
+	ldl *f = ldl_analyze(hs->h);
+	int bad = 0;
+	static const double sig[] = { -1e-3, -1e-9, 1e-9, 0.5, 3, 50 };
+	for (int k = 0; k < 6; k++) {
+		int below = 0;
+		for (int i = 0; i < n; i++)
+			below += d[i] < sig[k];
+		bad += ldl_factor(f, hs->h, -sig[k]) != MESH_OK || ldl_nneg(f) != below;
+	}
+	ok(bad == 0, "ldl: negative pivots of H - s I = eigenvalues below s, six shifts (saddle)");
+	ok(ldl_growth(f) < 1e3 * fmax(fabs(d[0]), fabs(d[n - 1])),
+	   "ldl: growth %.3g of max |lambda|", ldl_growth(f) / fmax(fabs(d[0]), fabs(d[n - 1])));
+	int bi[4] = { 3, 4, 17, 3 };
+	double bv[4] = { 1, -2, 0.5, 0.25 }, *b = calloc((size_t)n, sizeof *b),
+	       *x = malloc((size_t)n * sizeof *x);
+	for (int k = 0; k < 4; k++)
+		b[bi[k]] += bv[k];
+	ldl_solve(f, b, x);
+	double q = 0;
+	for (int i = 0; i < n; i++)
+		q += b[i] * x[i];
+	double qs = ldl_quad(f, 4, bi, bv);
+	ok(fabs(qs - q) <= 1e-12 * fabs(q), "ldl_quad = b^T x of a whole solve (%.15g, %.15g)", qs, q);
+	ok(ldl_factor(f, hs->h, NAN) == MESH_EDOM && isnan(ldl_quad(f, 4, bi, bv)) &&
+	   ldl_solve(f, b, x) == MESH_EDOM && ldl_nneg(f) == -1,
+	   "ldl: a NaN shift is MESH_EDOM, and no factor is held after it");
+	ldl_free(f);
+	free(b);
+	free(x);
+	free(d);
+	free(u);
+	hessian_sparse_free(hs);
+
+	double w = sparse_vs_dense(m, p, &nneg);
+	ok(w <= 1e-9, "sparse = dense on every junction of the rigid honeycomb (a1 to %.2g)", w);
+	w = sparse_vs_dense(m, saddle, &nneg);
+	ok(w <= 1e-9 && nneg > 0, "... and of the saddle, %d negative modes (a1 to %.2g)", nneg, w);
+	linresp *lr;
+	mesh_error err;
+	ok(linresp_alloc(m, p, 0, 1e-10, INFINITY, &lr, &err) == MESH_EDOM,
+	   "linresp: zero-mode tolerance 0 is MESH_EDOM");
+	ok(linresp_alloc(m, p, 1e-10, 1e-10, 1000, &lr, &err) == MESH_ETOOBIG,
+	   "linresp: over max_bytes is MESH_ETOOBIG ('%s')", err.msg);
+}
+
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(24);
+	tap_plan(32);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 6, &m, &err);
@@ -218,6 +307,8 @@ int main(void)
 	fl_linear_a1(lr, m, j, &lin);
 	ok(lin.nneg > 0, "honeycomb at p0 3.9 has negative modes (%d)", lin.nneg);
 	fl_linear_free(lr);
+
+	sparse_checks(m, &p, &hi);
 
 	/* Bad arguments. */
 	fl_work *w = fl_work_alloc(m);

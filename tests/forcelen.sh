@@ -3,7 +3,7 @@
 # against the exact linear response, threads do not change the bytes,
 # several meshes in one stream, the return legs, usage and input errors.
 . "$(dirname "$0")/lib.sh"
-plan 45
+plan 57
 
 tis-hex 6 6 --p0 3.6 >"$T/h.mesh"
 tis-forcelen --index 0 --range 0.02 "$T/h.mesh" >"$T/c.tsv"
@@ -100,7 +100,60 @@ ok "and the curve is written whole, the misses in its fres column" \
 ok "--help to stdout" sh -c "tis-forcelen --help | grep -q '^usage: tis-forcelen' && tis-fit --help | grep -q '^usage: tis-fit'"
 
 fails_with 2 "--linear with a sweep option" tis-forcelen --index 0 --linear --no-back "$T/h.mesh"
-ok "--lmin above l0: a warning, no inward legs" sh -c "tis-forcelen --index 0 --range 0.02 --lmin 100 '$T/h.mesh' 2>'$T/lw' | awk '\$1 == \$1 + 0' | wc -l | grep -qx 9 && grep -q 'no longer than --lmin 100' '$T/lw'"
+
+# The sparse linear response against the dense one (libmesh/analysis/
+# linresp.h): the same nzero and nneg, the same junctions with a1 = 0, and
+# every other a1 to 1e-9 relative (measured: 6e-11 at worst on these).
+# Rigid (disordered-1 at 3.83, next to its crossing; the honeycomb at
+# 3.70), floppy (disordered-1 at 3.90: 647 zero modes) and partly
+# floppy (disordered-2 at 3.84: 22 rigid junctions among floppy ones,
+# decided by the certified whole solves).
+S=$(dirname "$0")/../samples
+# lincmp DENSE SPARSE: the rows agree as above
+lincmp() {
+	rows "$1" >"$T/ld"
+	rows "$2" >"$T/ls"
+	[ -s "$T/ld" ] && [ "$(wc -l <"$T/ld")" = "$(wc -l <"$T/ls")" ] &&
+		paste "$T/ld" "$T/ls" | awk -F'\t' '
+		$2 != $10 || $7 != $15 || $8 != $16 || ($6 == 0) != ($14 == 0) { exit 1 }
+		$6 != 0 { e = ($6 - $14) / $6; if (e < 0) e = -e; if (e > 1e-9) exit 1 }'
+}
+for c in 1:3.83 1:3.90 2:3.84 hex:3.70; do
+	s=${c%%:*} p=${c#*:} f=$T/l${c%%:*}-${c#*:}
+	if [ "$s" = hex ]; then tis-hex 18 18 --p0 "$p"; else tis-relax -q --p0 "$p" "$S/disordered-$s.mesh"; fi >"$f.mesh"
+	tis-forcelen --linear --all --linear-method dense "$f.mesh" >"$f.dense" 2>"$f.err"
+	tis-forcelen --linear --all --linear-method sparse "$f.mesh" >"$f.sparse" 2>>"$f.err"
+	ok "$s at p0 $p: --linear-method sparse = dense (nzero, nneg, a1 = 0, a1 to 1e-9), quietly" \
+		sh -c "! test -s '$f.err'" && lincmp "$f.dense" "$f.sparse"
+done
+# the cases are the ones named: counts of floppy junctions and zero modes
+cases() { rows "$1" | awk -F'\t' '{ z += $6 == 0; m = $7; g = $8 } END { printf "%d %d %d", z, m, g }'; }
+ok "the cases: rigid, floppy (647 zero modes), partly floppy (950 of 972 junctions)" test \
+	"$(cases "$T/l1-3.83.sparse"),$(cases "$T/l1-3.90.sparse"),$(cases "$T/l2-3.84.sparse")" = "0 0 0,972 647 0,950 624 0"
+ok "the default (auto) is the sparse method: the same rows" sh -c \
+	"tis-forcelen --linear --all '$T/l2-3.84.mesh' | grep -v '^#' | cmp -s - '$T/l2-3.84.sparse' -i 0:\$(grep '^#' '$T/l2-3.84.sparse' | wc -c)"
+# A saddle: the honeycomb above p_hex has 107 negative modes on 6 x 6
+# cells; every a1 comes from the pinned factor all the same, and nneg
+# says it is no minimum.
+tis-hex 6 6 --p0 3.75 >"$T/h375.mesh"
+tis-forcelen --linear --all --linear-method sparse "$T/h375.mesh" >"$T/h375.sparse"
+tis-forcelen --linear --all --linear-method dense "$T/h375.mesh" >"$T/h375.dense"
+ok "a saddle (honeycomb at 3.75): nneg 107 and the same a1 as the dense path" \
+	sh -c "test \"\$(awk '\$1 == \$1 + 0 { print \$8 }' '$T/h375.sparse' | sort -u)\" = 107" && lincmp "$T/h375.dense" "$T/h375.sparse"
+# Not at rest (disordered-3 relaxed at 3.835 stops short, 38 negative
+# modes): eigenvalues near the zero cut, which the sparse method cannot
+# certify: it says so; auto hands such a small mesh to the dense path.
+tis-relax -q --accept --p0 3.835 "$S/disordered-3.mesh" >"$T/r3.mesh" 2>/dev/null
+tis-forcelen --linear --all --no-relax --linear-method sparse "$T/r3.mesh" 2>"$T/r3.err" | rows >/dev/null
+ok "sparse near the zero cut: a warning naming the eigenvalues and the junctions not certain" \
+	grep -q "eigenvalues of the hessian lie within a factor 10 of the zero cut (nneg [0-9]*): whether a1 = 0 is not certain for [1-9][0-9]* of 972 junctions" "$T/r3.err"
+ok "... and auto falls back to the dense path there: its rows" sh -c \
+	"tis-forcelen --linear --all --no-relax '$T/r3.mesh' 2>/dev/null | awk '\$1 == \$1 + 0' >'$T/r3.auto'; tis-forcelen --linear --all --no-relax --linear-method dense '$T/r3.mesh' 2>/dev/null | awk '\$1 == \$1 + 0' | cmp -s - '$T/r3.auto'"
+fails_with 2 "--linear-method unknown" tis-forcelen --all --linear --linear-method lanczos "$T/h.mesh"
+fails_with 2 "--linear-method without --linear" tis-forcelen --all --linear-method sparse "$T/h.mesh"
+fails_with 1 "--linear-method sparse over --max-memory: refused" \
+	tis-forcelen --all --linear --linear-method sparse --max-memory 100k "$T/h375.mesh"
+ok "... naming the sparse factors" grep -q "sparse linear response" "$T/err"
 fails_with 2 "no junction selection" tis-forcelen "$T/h.mesh"
 fails_with 2 "two selections" tis-forcelen --all --index 0 "$T/h.mesh"
 tis-forcelen --index 5 --index 0 --range 0.02 "$T/h.mesh" | rows >"$T/twice.rows"

@@ -11,6 +11,9 @@
 #include "forcelen.h"
 #include "geom.h"
 
+#define STR_(x) #x
+#define STR(x) STR_(x)
+
 static const char usage[] =
 	"(--junction A B | --index K | --random K [--seed S] | --all) [options] [MESH]";
 static const char help[] =
@@ -47,7 +50,13 @@ static const char help[] =
 	"  --linear         instead of sweeps, the exact linear response\n"
 	"                   a1 = -2/(g^T H^+ g) per junction (table p0 j a b l0 a1\n"
 	"                   nzero nneg)\n"
-	"  --max-memory SIZE  with --linear: refuse a mesh whose decomposition needs\n"
+	"  --linear-method M  with --linear: dense (one eigendecomposition of the\n"
+	"                   Hessian, memory and time growing as n^2 and n^3), sparse\n"
+	"                   (LDL^T factorizations: the same a1, nzero and nneg,\n"
+	"                   memory about linear, faster at every size) or auto\n"
+	"                   (sparse, and dense where sparse cannot certify its\n"
+	"                   answer on up to " STR(FL_LIN_DENSE_MAXNV) " vertices; the default)\n"
+	"  --max-memory SIZE  with --linear: refuse a mesh whose linear response needs\n"
 	"                   more (bytes, or with k, M, G, T: 8G); default the memory\n"
 	"                   available now\n"
 	"  --threads N      cores to compute on, one junction's sweep on each\n"
@@ -64,6 +73,8 @@ struct opts {
 	cli_model_opts mo;
 	fl_opts fl;
 	int relax, linear, threads;
+	int method;               /* --linear-method */
+	const char *method_opt;   /* as given, NULL: not given */
 	const char *max_memory;   /* --max-memory, NULL: the memory available */
 	double max_bytes;
 	const char *input;
@@ -73,7 +84,7 @@ static struct opts parse(int argc, char **argv)
 {
 	enum { O_P0 = 256, O_KA, O_STEP, O_RANGE, O_LMIN, O_NOBACK, O_PRED, O_TOL,
 	       O_ALGO, O_MAXEVAL, O_NORELAX, O_LINEAR, O_THREADS, O_JUNCTION,
-	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION, O_NOPC, O_MAXMEM };
+	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION, O_NOPC, O_MAXMEM, O_METHOD };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "index", required_argument, NULL, O_INDEX },
@@ -95,6 +106,7 @@ static struct opts parse(int argc, char **argv)
 		{ "linear", no_argument, NULL, O_LINEAR },
 		{ "threads", required_argument, NULL, O_THREADS },
 		{ "max-memory", required_argument, NULL, O_MAXMEM },
+		{ "linear-method", required_argument, NULL, O_METHOD },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
@@ -132,6 +144,12 @@ static struct opts parse(int argc, char **argv)
 		case O_LINEAR: o.linear = 1; break;
 		case O_THREADS: o.threads = (int)cli_long("--threads", optarg, 1, FL_MAXTHREADS); break;
 		case O_MAXMEM: o.max_memory = optarg; break;
+		case O_METHOD:
+			if (fl_linear_method_parse(optarg, &o.method) != MESH_OK)
+				cli_usage_error("--linear-method: unknown method '%s' (dense, sparse, auto)",
+				                optarg);
+			o.method_opt = optarg;
+			break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
 		default: cli_bad_option(argv, c);
@@ -147,6 +165,8 @@ static struct opts parse(int argc, char **argv)
 	o.max_bytes = cli_max_memory(o.max_memory);
 	if (o.max_memory && !o.linear)
 		cli_usage_error("--max-memory is for --linear: the sweeps need no dense work");
+	if (o.method_opt && !o.linear)
+		cli_usage_error("--linear-method is for --linear");
 	if (o.fl.range / o.fl.step > 1e6)
 		cli_usage_error("--range/--step: more than 1e6 points per leg");
 	if (argc - optind > 1)
@@ -210,6 +230,21 @@ static void relax_input(mesh *m, const model *p, const struct opts *o)
 		         p->p0, rr.f0, rr.fres, rr.converged ? "" : ", short of the tolerance");
 }
 
+/* The sparse method says where its answer may not be the dense cut's:
+ * eigenvalues too near the zero cut for its certificate (linresp.h);
+ * such a mesh is not at rest or sits at a rigidity transition. */
+static void linear_warn(const fl_linear *lr, int unsure, int count, double p0)
+{
+	fl_lin_summary s;
+	fl_linear_summary(lr, &s);
+	if (s.method != FL_LIN_SPARSE || (s.nwindow <= 0 && unsure == 0))
+		return;
+	cli_warn("p0 %g: %d eigenvalues of the hessian lie within a factor 10 of the zero cut "
+	         "(nneg %d): whether a1 = 0 is not certain for %d of %d junctions "
+	         "(--linear-method dense decides by the cut itself)", p0, s.nwindow, s.nneg,
+	         unsure, count);
+}
+
 int main(int argc, char **argv)
 {
 	cli_init("tis-forcelen", usage, argc, argv);
@@ -226,7 +261,8 @@ int main(int argc, char **argv)
 		mesh_error err;
 		/* before the relaxation, the header or anything dense */
 		if (o.linear)
-			cli_fits(fl_linear_fits(m, o.max_bytes, &err), &err, o.max_memory != NULL);
+			cli_fits(fl_linear_fits_method(m, o.method, o.max_bytes, &err), &err,
+			         o.max_memory != NULL);
 		relax_input(m, &p, &o);
 		int count;
 		int *sel = select_junctions(&o, m, &count);
@@ -237,9 +273,13 @@ int main(int argc, char **argv)
 
 		if (o.linear) {
 			fl_linear *lr;
-			if (fl_linear_alloc(m, &p, 1e-10, o.max_bytes, &lr, &err) != MESH_OK)
-				cli_die(EXIT_INPUT, "%s", err.msg);
-			fl_linear_write(stdout, lr, m, p.p0, sel, count);
+			int st = fl_linear_alloc_method(m, &p, 1e-10, o.method, o.max_bytes, &lr, &err);
+			if (st != MESH_OK)
+				cli_fits(st, &err, o.max_memory != NULL);
+			int unsure = fl_linear_write(stdout, lr, m, p.p0, sel, count);
+			if (unsure < 0)
+				cli_die(EXIT_INPUT, "out of memory");
+			linear_warn(lr, unsure, count, p.p0);
 			fl_linear_free(lr);
 			free(sel);
 			mesh_free(m);

@@ -1,6 +1,7 @@
 /* forcelen.c - constrained sweeps of one junction's length. */
 #include "forcelen.h"
 #include "hessian.h"
+#include "linresp.h"
 #include "sparse.h"
 
 #include <math.h>
@@ -508,18 +509,7 @@ static int fl_pcapply(const double *r, double *z, void *data)
 	}
 	memcpy(w->sin_, r, (size_t)n * sizeof *r);
 	spchol_solve(w->ch, r, z);
-	int nv1 = w->nv - 1;
-	double mx = 0, my = 0;
-	for (int v = 0; v < nv1; v++) {
-		mx += z[2 * v];
-		my += z[2 * v + 1];
-	}
-	mx /= nv1;
-	my /= nv1;
-	for (int v = 0; v < nv1; v++) {
-		z[2 * v] -= mx;
-		z[2 * v + 1] -= my;
-	}
+	hessian_drop_translation(z, w->nv - 1);
 	memcpy(w->sout, z, (size_t)n * sizeof *z);
 	w->svalid = 1;
 	return 0;
@@ -773,6 +763,8 @@ int fl_sweep(const mesh *m, const model *p, int j, const fl_opts *o,
 }
 
 struct fl_linear {
+	int method;       /* FL_LIN_DENSE or FL_LIN_SPARSE */
+	linresp *sp;      /* the sparse method's */
 	int n;
 	double *lam;      /* n eigenvalues */
 	double *u;        /* n x n eigenvectors, column k is mode k (row-major) */
@@ -781,10 +773,15 @@ struct fl_linear {
 	int nzero, nneg;
 };
 
+/* Weight of g on the zero modes above which a junction is floppy: |g|^2
+ * = 2, so this is rounding. */
+#define FL_GNULL_MIN 1e-10
+
 void fl_linear_free(fl_linear *lr)
 {
 	if (lr == NULL)
 		return;
+	linresp_free(lr->sp);
 	free(lr->lam);
 	free(lr->u);
 	free(lr->kind);
@@ -800,6 +797,23 @@ static int lin_fail(mesh_error *err, int st, const char *msg)
 	return st;
 }
 
+static const char *const lin_names[] = { "auto", "dense", "sparse" };
+
+const char *fl_linear_method_name(int method)
+{
+	return method >= FL_LIN_AUTO && method <= FL_LIN_SPARSE ? lin_names[method] : NULL;
+}
+
+int fl_linear_method_parse(const char *name, int *method)
+{
+	for (int k = FL_LIN_AUTO; k <= FL_LIN_SPARSE; k++)
+		if (strcmp(name, lin_names[k]) == 0) {
+			*method = k;
+			return MESH_OK;
+		}
+	return MESH_EDOM;
+}
+
 double fl_linear_bytes(const mesh *m)
 {
 	return mesh_hessian_eigen_bytes(m->nv, HESS_EIG_LAPACK) + 4 * (2.0 * m->nv);
@@ -810,6 +824,64 @@ int fl_linear_fits(const mesh *m, double max_bytes, mesh_error *err)
 	int st = mesh_memory_check(m, fl_linear_bytes(m), max_bytes,
 	                           "the exact linear response (a dense hessian decomposition)", err);
 	return st == MESH_OK ? mesh_hessian_eigen_check(m, HESS_EIG_LAPACK, err) : st;
+}
+
+int fl_linear_fits_method(const mesh *m, int method, double max_bytes, mesh_error *err)
+{
+	if (fl_linear_method_name(method) == NULL)
+		return lin_fail(err, MESH_EDOM, "unknown linear response method");
+	return method == FL_LIN_DENSE ? fl_linear_fits(m, max_bytes, err) : MESH_OK;
+}
+
+/* Whether auto may fall back to the dense decomposition of m. */
+static int dense_cheap(const mesh *m, double max_bytes)
+{
+	return m->nv <= FL_LIN_DENSE_MAXNV && fl_linear_fits(m, max_bytes, NULL) == MESH_OK;
+}
+
+int fl_linear_alloc_method(const mesh *m, const model *p, double zerotol, int method,
+                           double max_bytes, fl_linear **out, mesh_error *err)
+{
+	*out = NULL;
+	if (fl_linear_method_name(method) == NULL)
+		return lin_fail(err, MESH_EDOM, "unknown linear response method");
+	if (method == FL_LIN_DENSE)
+		return fl_linear_alloc(m, p, zerotol, max_bytes, out, err);
+	if (!(zerotol > 0) || !(zerotol < 1))
+		return lin_fail(err, MESH_EDOM, "zero-mode tolerance must be in (0, 1) on the sparse path");
+	fl_linear *lr = calloc(1, sizeof *lr);
+	if (lr == NULL)
+		return lin_fail(err, MESH_ENOMEM, "out of memory");
+	lr->method = FL_LIN_SPARSE;
+	lr->n = 2 * m->nv;
+	int st = linresp_alloc(m, p, zerotol, FL_GNULL_MIN, max_bytes, &lr->sp, err);
+	linresp_info in = { .nwindow = -1 };
+	if (st == MESH_OK)
+		linresp_get_info(lr->sp, &in);
+	if (method == FL_LIN_AUTO && (st == MESH_ENOCONV || in.nwindow > 0) &&
+	    dense_cheap(m, max_bytes)) {
+		fl_linear_free(lr);
+		return fl_linear_alloc(m, p, zerotol, max_bytes, out, err);
+	}
+	if (st != MESH_OK) {
+		fl_linear_free(lr);
+		return st;
+	}
+	lr->nzero = in.nzero;
+	lr->nneg = in.nneg;
+	*out = lr;
+	return MESH_OK;
+}
+
+void fl_linear_summary(const fl_linear *lr, fl_lin_summary *s)
+{
+	*s = (fl_lin_summary){ .method = lr->method, .nzero = lr->nzero, .nneg = lr->nneg,
+	                       .nwindow = -1 };
+	if (lr->sp) {
+		linresp_info in;
+		linresp_get_info(lr->sp, &in);
+		s->nwindow = in.nwindow;
+	}
 }
 
 int fl_linear_alloc(const mesh *m, const model *p, double zerotol, double max_bytes,
@@ -823,8 +895,10 @@ int fl_linear_alloc(const mesh *m, const model *p, double zerotol, double max_by
 		return fit;
 	int n = 2 * m->nv;
 	fl_linear *lr = calloc(1, sizeof *lr);
-	if (lr)
+	if (lr) {
 		lr->n = n;
+		lr->method = FL_LIN_DENSE;
+	}
 	if (lr) {
 		lr->lam = malloc(((size_t)n + 1) * sizeof *lr->lam);
 		lr->u = malloc(((size_t)n * n + 1) * sizeof *lr->u);
@@ -886,10 +960,19 @@ done:
 	return st;
 }
 
-int fl_linear_a1(const fl_linear *lr, const mesh *m, int j, fl_lin_result *res)
+int fl_linear_a1(fl_linear *lr, const mesh *m, int j, fl_lin_result *res)
 {
 	if (j < 0 || j >= m->nj || 2 * m->nv != lr->n)
 		return MESH_EDOM;
+	if (lr->sp) {
+		linresp_result r;
+		int st = linresp_a1(lr->sp, m, j, &r);
+		if (st != MESH_OK)
+			return st;
+		*res = (fl_lin_result){ .a1 = r.a1, .gHg = r.gHg, .gnull = r.gnull,
+		                        .nzero = lr->nzero, .nneg = lr->nneg, .sure = r.sure };
+		return MESH_OK;
+	}
 	double d[2];
 	double l = junction_vec(m, m->r, j, d);
 	int a = m->jv[2 * j], b = m->jv[2 * j + 1], n = lr->n;
@@ -909,8 +992,7 @@ int fl_linear_a1(const fl_linear *lr, const mesh *m, int j, fl_lin_result *res)
 	res->gnull = gnull;
 	res->nzero = lr->nzero;
 	res->nneg = lr->nneg;
-	/* |g|^2 = 2; a weight on the zero modes above rounding makes the
-	 * junction floppy. */
-	res->a1 = gnull > 1e-10 ? 0.0 : -2.0 / ghg;
+	res->sure = 1;
+	res->a1 = gnull > FL_GNULL_MIN ? 0.0 : -2.0 / ghg;
 	return MESH_OK;
 }

@@ -51,16 +51,19 @@ void fl_curve_write(FILE *f, double p0, const mesh *m, int j, const fl_point *pt
 	}
 }
 
-void fl_linear_write(FILE *f, const fl_linear *lr, const mesh *m, double p0, const int *sel,
-                     int n)
+int fl_linear_write(FILE *f, fl_linear *lr, const mesh *m, double p0, const int *sel, int n)
 {
+	int unsure = 0;
 	for (int k = 0; k < n; k++) {
 		int j = sel[k];
 		fl_lin_result r;
-		fl_linear_a1(lr, m, j, &r);
+		if (fl_linear_a1(lr, m, j, &r) != MESH_OK)
+			return -1;
+		unsure += !r.sure;
 		fprintf(f, "%.10g\t%d\t%d\t%d\t%.12g\t%.12g\t%d\t%d\n", p0, j, m->jv[2 * j],
 		        m->jv[2 * j + 1], junction_length(m, m->r, j), r.a1, r.nzero, r.nneg);
 	}
+	return unsure;
 }
 
 /* Work shared by the sweep threads: junction k of sel goes to whichever

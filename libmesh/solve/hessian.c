@@ -25,6 +25,21 @@ struct hessian_ws {
 	double *jt;           /* 4 per junction: its terms of (H v)_a, (H v)_b */
 };
 
+void hessian_drop_translation(double *x, int nv)
+{
+	double mx = 0, my = 0;
+	for (int v = 0; v < nv; v++) {
+		mx += x[2 * v];
+		my += x[2 * v + 1];
+	}
+	mx /= nv;
+	my /= nv;
+	for (int v = 0; v < nv; v++) {
+		x[2 * v] -= mx;
+		x[2 * v + 1] -= my;
+	}
+}
+
 hessian_ws *hessian_ws_alloc(const mesh *m)
 {
 	hessian_ws *w = malloc(sizeof *w);

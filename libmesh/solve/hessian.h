@@ -37,6 +37,12 @@ void mesh_hessvec_prepare(const mesh *m, const double *r, const model *p,
 void mesh_hessvec_prepared(const mesh *m, const model *p, const double *v,
                            double *hv, hessian_ws *w);
 
+/* x minus its uniform shift over the first nv vertices' (x, y) pairs: the
+ * translations are the null space of H, so a solve with H plus a small
+ * shift amplifies rounding along them by 1 / shift; a caller whose right
+ * side has no part along them takes that part out of the answer. */
+void hessian_drop_translation(double *x, int nv);
+
 /* The dense Hessian at r into h (row-major, (2 nv)^2 values), exactly
  * symmetric.  MESH_ENOMEM. */
 int mesh_hessian(const mesh *m, const double *r, const model *p, double *h);

@@ -872,18 +872,7 @@ static int relax_pcapply(const double *r, double *z, void *data)
 	} else {
 		spchol_solve(rc->ch, r, z);
 	}
-	int nv = rc->m->nv;
-	double mx = 0, my = 0;
-	for (int v = 0; v < nv; v++) {
-		mx += z[2 * v];
-		my += z[2 * v + 1];
-	}
-	mx /= nv;
-	my /= nv;
-	for (int v = 0; v < nv; v++) {
-		z[2 * v] -= mx;
-		z[2 * v + 1] -= my;
-	}
+	hessian_drop_translation(z, rc->m->nv);
 	return 0;
 }
 

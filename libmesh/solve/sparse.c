@@ -4,8 +4,7 @@
  * double-precision solves. */
 #include "sparse.h"
 #include "mesh.h"
-
-#include <suitesparse/cholmod.h>
+#include "sparse_int.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -335,39 +334,53 @@ static int own_setup(spchol *c, const spsym *a)
 	return 0;
 }
 
-spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind)
+int sparse_cholmod_start(cholmod_common *cm, int supernodal)
 {
-	spchol *c = calloc(1, sizeof *c);
-	if (c == NULL)
-		return NULL;
-	if (!cholmod_start(&c->cm)) {
-		free(c);
-		return NULL;
-	}
+	if (!cholmod_start(cm))
+		return 0;
 	/* The library never prints: CHOLMOD reports through cm.status only. */
-	c->cm.print = 0;
-	c->cm.error_handler = NULL;
-	/* A failed shift is retried with a larger one: stop at the first
-	 * non-positive pivot instead of finishing a useless factor. */
-	c->cm.quick_return_if_not_posdef = 1;
-	/* Supernodal symbolic structure, whichever numeric path runs. */
-	c->cm.supernodal = CHOLMOD_SUPERNODAL;
+	cm->print = 0;
+	cm->error_handler = NULL;
+	cm->supernodal = supernodal;
 	/* AMD only.  By default CHOLMOD also tries METIS on large factors,
 	 * and METIS (GKlib's gk_sigtrap) installs a process-wide handler for
 	 * SIGTERM and SIGINT that longjmps: a signal during the ordering was
 	 * swallowed (tis-relax at 10^5 cells ran to its end with exit 0) or,
 	 * delivered to another thread, crashed the process. */
-	c->cm.nmethods = 1;
-	c->cm.method[0].ordering = CHOLMOD_AMD;
+	cm->nmethods = 1;
+	cm->method[0].ordering = CHOLMOD_AMD;
+	return 1;
+}
+
+cholmod_sparse *sparse_cholmod_pattern(const spsym *a, cholmod_common *cm)
+{
+	cholmod_sparse *A = cholmod_allocate_sparse((size_t)a->n, (size_t)a->n,
+	                                            (size_t)a->nnz + 1, 1, 1, -1, CHOLMOD_REAL, cm);
+	if (A == NULL)
+		return NULL;
+	memcpy(A->p, a->colp, ((size_t)a->n + 1) * sizeof *a->colp);
+	memcpy(A->i, a->rowi, (size_t)a->nnz * sizeof *a->rowi);
+	memset(A->x, 0, ((size_t)a->nnz + 1) * sizeof(double));
+	return A;
+}
+
+spchol *spchol_analyze_kind(const spsym *a, spchol_kind kind)
+{
+	spchol *c = calloc(1, sizeof *c);
+	if (c == NULL)
+		return NULL;
+	/* Supernodal symbolic structure, whichever numeric path runs. */
+	if (!sparse_cholmod_start(&c->cm, CHOLMOD_SUPERNODAL)) {
+		free(c);
+		return NULL;
+	}
+	/* A failed shift is retried with a larger one: stop at the first
+	 * non-positive pivot instead of finishing a useless factor. */
+	c->cm.quick_return_if_not_posdef = 1;
 	c->n = a->n;
 	c->annz = a->nnz;
-	c->A = cholmod_allocate_sparse((size_t)a->n, (size_t)a->n, (size_t)a->nnz + 1, 1, 1, -1,
-				       CHOLMOD_REAL, &c->cm);
-	if (c->A == NULL)
+	if ((c->A = sparse_cholmod_pattern(a, &c->cm)) == NULL)
 		goto fail;
-	memcpy(c->A->p, a->colp, ((size_t)a->n + 1) * sizeof *a->colp);
-	memcpy(c->A->i, a->rowi, (size_t)a->nnz * sizeof *a->rowi);
-	memset(c->A->x, 0, ((size_t)a->nnz + 1) * sizeof(double));
 	c->L = cholmod_analyze(c->A, &c->cm);
 	if (c->L == NULL || c->cm.status < CHOLMOD_OK || !c->L->is_super)
 		goto fail;

@@ -1,0 +1,401 @@
+/* linresp.c - the exact linear response from sparse LDL^T factorizations
+ * (linresp.h has the method and why it matches the dense path). */
+#include "linresp.h"
+#include "hessian.h"
+#include "ldl.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Zero modes are certified to lie within tol / LR_GLO of zero. */
+#define LR_GLO 10.0
+#define LR_LANCZOS_MAX 400
+
+struct linresp {
+	int n, nv;
+	double gnull_min;
+	linresp_info info;
+	ldl *fp, *fm;        /* H + tol I, H - tol I (step 4; fp the pinned
+	                        matrix in step 3) */
+	double *x, *xn;      /* whole-solve vectors (step 4) */
+};
+
+void linresp_free(linresp *lr)
+{
+	if (lr == NULL)
+		return;
+	ldl_free(lr->fp);
+	ldl_free(lr->fm);
+	free(lr->x);
+	free(lr->xn);
+	free(lr);
+}
+
+void linresp_get_info(const linresp *lr, linresp_info *info)
+{
+	*info = lr->info;
+}
+
+/* The number of eigenvalues of the symmetric tridiagonal (al, be) below x
+ * (Sturm sequence). */
+static int sturm_count(const double *al, const double *be, int k, double x)
+{
+	int c = 0;
+	double q = 1;
+	for (int i = 0; i < k; i++) {
+		double b2 = i > 0 ? be[i - 1] * be[i - 1] : 0;
+		q = al[i] - x - (i > 0 ? b2 / q : 0);
+		if (q == 0)
+			q = -1e-300;
+		c += q < 0;
+	}
+	return c;
+}
+
+/* The largest and the smallest eigenvalue of the tridiagonal, by bisection
+ * within its Gershgorin interval, to the last bits. */
+static void tri_extremes(const double *al, const double *be, int k, double *lo, double *hi)
+{
+	double a = INFINITY, b = -INFINITY;
+	for (int i = 0; i < k; i++) {
+		double r = (i > 0 ? fabs(be[i - 1]) : 0) + (i < k - 1 ? fabs(be[i]) : 0);
+		a = fmin(a, al[i] - r);
+		b = fmax(b, al[i] + r);
+	}
+	for (int which = 0; which < 2; which++) {
+		double l = a, h = b;
+		for (int it = 0; it < 200 && h - l > 4e-16 * fmax(fabs(l), fabs(h)); it++) {
+			double mid = 0.5 * (l + h);
+			int c = sturm_count(al, be, k, mid);
+			/* which 0: the smallest (count >= 1 above it); 1: the
+			 * largest (count k at or above it) */
+			if (which == 0 ? c >= 1 : c >= k)
+				h = mid;
+			else
+				l = mid;
+		}
+		if (which == 0)
+			*lo = 0.5 * (l + h);
+		else
+			*hi = 0.5 * (l + h);
+	}
+}
+
+/* max |lambda| of a by Lanczos without reorthogonalization: the extreme
+ * Ritz values converge first, and lost orthogonality only adds copies of
+ * converged ones.  The start is a fixed hash sequence (no random state):
+ * the same matrix gives the same bits.  MESH_OK, MESH_ENOMEM, MESH_ENOCONV
+ * for a zero matrix. */
+static int lanczos_max(const spsym *a, double *lmax)
+{
+	int n = a->n;
+	double *v0 = calloc((size_t)n + 1, sizeof *v0), *v1 = malloc(((size_t)n + 1) * sizeof *v1),
+	       *w = malloc(((size_t)n + 1) * sizeof *w);
+	double *al = malloc(LR_LANCZOS_MAX * sizeof *al), *be = malloc(LR_LANCZOS_MAX * sizeof *be);
+	int st = MESH_OK;
+	if (!v0 || !v1 || !w || !al || !be) {
+		st = MESH_ENOMEM;
+		goto done;
+	}
+	double nrm = 0;
+	for (int i = 0; i < n; i++) {
+		uint64_t h = (uint64_t)(i + 1) * 0x9E3779B97F4A7C15ull;
+		h ^= h >> 31;
+		h *= 0xBF58476D1CE4E5B9ull;
+		h ^= h >> 29;
+		v1[i] = (double)(h >> 11) / 9007199254740992.0 - 0.5;
+		nrm += v1[i] * v1[i];
+	}
+	nrm = sqrt(nrm);
+	for (int i = 0; i < n; i++)
+		v1[i] /= nrm;
+	double b = 0, est = 0, last = -1;
+	int k;
+	for (k = 0; k < LR_LANCZOS_MAX && k < n; k++) {
+		spsym_mulvec(a, v1, w);
+		double alpha = 0;
+		for (int i = 0; i < n; i++)
+			alpha += w[i] * v1[i];
+		for (int i = 0; i < n; i++)
+			w[i] -= alpha * v1[i] + b * v0[i];
+		b = 0;
+		for (int i = 0; i < n; i++)
+			b += w[i] * w[i];
+		b = sqrt(b);
+		al[k] = alpha;
+		be[k] = b;
+		int stop = !(b > 1e-14 * fmax(fabs(alpha), est));   /* invariant subspace */
+		if (k % 5 == 4 || stop || k == n - 1) {
+			double lo = 0, hi = 0;
+			tri_extremes(al, be, k + 1, &lo, &hi);
+			est = fmax(fabs(lo), fabs(hi));
+			if (stop || (k >= 19 && fabs(est - last) <= 1e-13 * est))
+				break;
+			last = est;
+		}
+		for (int i = 0; i < n; i++) {
+			v0[i] = v1[i];
+			v1[i] = w[i] / b;
+		}
+	}
+	if (!(est > 0) || !isfinite(est))
+		st = MESH_ENOCONV;
+	*lmax = est;
+done:
+	free(v0);
+	free(v1);
+	free(w);
+	free(al);
+	free(be);
+	return st;
+}
+
+/* Factor A + shift I into f and return its count of negative pivots (or
+ * -1 with *st set). */
+static int count_below(ldl *f, const spsym *a, double shift, linresp *lr, int *st)
+{
+	*st = ldl_factor(f, a, shift);
+	if (*st != MESH_OK)
+		return -1;
+	lr->info.nfactor++;
+	lr->info.growth = fmax(lr->info.growth, ldl_growth(f) / lr->info.lmax);
+	if (!(ldl_growth(f) <= LINRESP_MAXGROWTH * lr->info.lmax)) {
+		*st = MESH_ENOCONV;
+		return -1;
+	}
+	return ldl_nneg(f);
+}
+
+static int fail_factor(mesh_error *err, int st, const char *what, double shift, double lmax)
+{
+	if (st == MESH_ENOMEM)
+		return mesh_error_set(err, 0, st, "out of memory");
+	return mesh_error_set(err, 0, MESH_ENOCONV,
+	                      "sparse linear response: the LDL^T factorization of %s at shift "
+	                      "%.3g max|lambda| %s; use the dense path", what, shift / lmax,
+	                      st == MESH_ENOCONV ? "grew beyond its backward error bound"
+	                                         : "met a zero pivot");
+}
+
+/* The number of eigenvalues of H in [-s, s), s > 0, from two
+ * factorizations; none is needed for -s when s >= tol and nothing lies
+ * below -tol. */
+static int count_window(ldl *f, const spsym *h, double s, linresp *lr, int *st)
+{
+	int up = count_below(f, h, -s, lr, st);   /* eigenvalues below s */
+	if (up < 0)
+		return -1;
+	int down = lr->info.nneg == 0 && s >= lr->info.tol ? 0 : count_below(f, h, s, lr, st);
+	return down < 0 ? -1 : up - down;
+}
+
+int linresp_alloc(const mesh *m, const model *p, double zerotol, double gnull_min,
+                  double max_bytes, linresp **out, mesh_error *err)
+{
+	*out = NULL;
+	if (!(zerotol > 0) || !(zerotol < 1) || !(gnull_min > 0))
+		return mesh_error_set(err, 0, MESH_EDOM,
+		                      "zero-mode tolerance must be in (0, 1) and the floppy weight > 0");
+	linresp *lr = calloc(1, sizeof *lr);
+	hessian_sparse *hs = NULL;
+	ldl *fw = NULL;
+	int st = MESH_OK;
+	if (lr == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	lr->nv = m->nv;
+	lr->n = 2 * m->nv;
+	lr->gnull_min = gnull_min;
+	lr->info.nwindow = -1;
+	if ((hs = hessian_sparse_alloc(m)) == NULL) {
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		goto done;
+	}
+	mesh_hessian_sparse(m, m->r, p, hs);
+	spsym *h = hs->h;
+	lr->fp = ldl_analyze(h);
+	lr->fm = ldl_analyze(h);
+	if (lr->fp == NULL || lr->fm == NULL) {
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		goto done;
+	}
+	/* the Hessian with its maps, three factors (a third for the counts of
+	 * step 4), the Lanczos and solve vectors */
+	lr->info.bytes = 20.0 * h->nnz + 4.0 * (hs->poff[m->nc]) + 3 * ldl_bytes(lr->fp) +
+	                 8.0 * 5 * lr->n;
+	st = mesh_memory_check(m, lr->info.bytes, max_bytes,
+	                       "the sparse linear response (three LDL^T factors of the hessian)", err);
+	if (st != MESH_OK)
+		goto done;
+
+	st = lanczos_max(h, &lr->info.lmax);
+	if (st != MESH_OK) {
+		mesh_error_set(err, 0, st, st == MESH_ENOMEM ? "out of memory"
+		                                             : "the hessian is zero: no scale for zero modes");
+		goto done;
+	}
+	double t = lr->info.tol = zerotol * lr->info.lmax;
+	int below_m = count_below(lr->fp, h, t, lr, &st);    /* eigenvalues below -t */
+	if (below_m < 0) {
+		st = fail_factor(err, st, "H + tol I", t, lr->info.lmax);
+		goto done;
+	}
+	int below_p = count_below(lr->fm, h, -t, lr, &st);   /* eigenvalues below +t */
+	if (below_p < 0) {
+		st = fail_factor(err, st, "H - tol I", -t, lr->info.lmax);
+		goto done;
+	}
+	lr->info.nneg = below_m;
+	lr->info.nzero = below_p - below_m - 2 > 0 ? below_p - below_m - 2 : 0;
+
+	if (lr->info.nzero == 0) {
+		/* Step 3: pin vertex 0.  In the lower triangle its couplings
+		 * are the entries of columns 0 and 1; the diagonal gets a value
+		 * of the matrix's scale, so the pivots stay of H's size. */
+		for (int c = 0; c < 2; c++)
+			for (int q = h->colp[c]; q < h->colp[c + 1]; q++)
+				h->val[q] = h->rowi[q] == c ? lr->info.lmax : 0;
+		ldl_free(lr->fm);
+		lr->fm = NULL;
+		if (count_below(lr->fp, h, 0, lr, &st) < 0) {
+			st = fail_factor(err, st, "H with vertex 0 pinned", 0, lr->info.lmax);
+			goto done;
+		}
+		lr->info.pinned = 1;
+		goto done;
+	}
+
+	/* Step 4: the gap, then the whole-solve vectors. */
+	if ((fw = ldl_analyze(h)) == NULL) {
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+		goto done;
+	}
+	int nin = below_p - below_m;   /* eigenvalues in [-t, t] */
+	int nlo = count_window(fw, h, t / LR_GLO, lr, &st);
+	if (nlo < 0) {
+		st = fail_factor(err, st, "H +- tol/10 I", t / LR_GLO, lr->info.lmax);
+		goto done;
+	}
+	static const double ghis[] = { 1e3, 1e2, 1e1 };
+	int nhi = 0;
+	for (int i = 0; i < 3; i++) {
+		lr->info.ghi = ghis[i];
+		nhi = count_window(fw, h, t * ghis[i], lr, &st);
+		if (nhi < 0) {
+			st = fail_factor(err, st, "H +- tol G I", t * ghis[i], lr->info.lmax);
+			goto done;
+		}
+		if (nhi == nin)
+			break;
+	}
+	lr->info.nwindow = (nin - nlo) + (nhi - nin);
+	/* k whole solves make (G_hi - 1)^(-2k) * |g|^2 < gnull_min / 10 */
+	double gh = lr->info.ghi - 1;
+	lr->info.ksolve = (int)ceil(log(20 / gnull_min) / (2 * log(gh)));
+	if (lr->info.ksolve < 1)
+		lr->info.ksolve = 1;
+	lr->x = malloc(((size_t)lr->n + 1) * sizeof *lr->x);
+	lr->xn = malloc(((size_t)lr->n + 1) * sizeof *lr->xn);
+	if (lr->x == NULL || lr->xn == NULL)
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+done:
+	ldl_free(fw);
+	hessian_sparse_free(hs);
+	if (st != MESH_OK)
+		linresp_free(lr);
+	else
+		*out = lr;
+	return st;
+}
+
+static double dot(const double *a, const double *b, int n)
+{
+	double s = 0;
+	for (int i = 0; i < n; i++)
+		s += a[i] * b[i];
+	return s;
+}
+
+int linresp_a1(linresp *lr, const mesh *m, int j, linresp_result *res)
+{
+	if (j < 0 || j >= m->nj || 2 * m->nv != lr->n)
+		return MESH_EDOM;
+	double d[2];
+	double l = junction_vec(m, m->r, j, d);
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+	double ex = d[0] / l, ey = d[1] / l;
+	int gi[4] = { 2 * a, 2 * a + 1, 2 * b, 2 * b + 1 };
+	double gv[4] = { -ex, -ey, ex, ey };
+	*res = (linresp_result){ .sure = 1 };
+	const linresp_info *in = &lr->info;
+	double t = in->tol;
+
+	if (in->pinned) {
+		/* vertex 0's rows are dropped (its equations are implied) */
+		int k = 0;
+		for (int i = 0; i < 4; i++)
+			if (gi[i] > 1) {
+				gi[k] = gi[i];
+				gv[k++] = gv[i];
+			}
+		double ghg = ldl_quad(lr->fp, k, gi, gv);
+		res->gHg = ghg;
+		res->a1 = -2.0 / ghg;
+		return MESH_OK;
+	}
+
+	double fp = ldl_quad(lr->fp, 4, gi, gv), fm = ldl_quad(lr->fm, 4, gi, gv);
+	double G = t * (fp - fm) / 2;
+	double zmax = 1 / (1 - 1 / (LR_GLO * LR_GLO));
+	int gap = in->nwindow == 0;
+	if (G > lr->gnull_min * zmax) {
+		res->a1 = 0;
+		res->gnull = G;
+		res->gHg = NAN;
+		res->sure = gap;
+		return MESH_OK;
+	}
+	/* Whole solves: x_i = K^{-i} g, moments m_{2i} = |x_i|^2 and
+	 * m_{2i+1} = x_i . x_{i+1} (m_1 = f(t)). */
+	int n = lr->n, k = in->ksolve;
+	double *x = lr->x, *xn = lr->xn;
+	memset(x, 0, (size_t)n * sizeof *x);
+	for (int i = 0; i < 4; i++)
+		x[gi[i]] += gv[i];
+	double neum = fp, tp = 1, m2k = 0;   /* sum t^(i-1) m_i, t^(i-1) */
+	for (int i = 1; i <= k; i++) {
+		if (ldl_solve(lr->fp, x, xn) != MESH_OK)
+			return MESH_EDOM;
+		/* g has no part along the translations */
+		hessian_drop_translation(xn, lr->nv);
+		res->nsolve++;
+		if (i > 1) {
+			tp *= t;
+			neum += tp * dot(x, xn, n);   /* m_{2i-1} = x_{i-1} . x_i */
+		}
+		m2k = dot(xn, xn, n);
+		tp *= t;
+		neum += tp * m2k;                 /* m_{2i} */
+		double *s = x;
+		x = xn;
+		xn = s;
+	}
+	/* the moment weighs zero modes by (t / (lambda + t))^(2k), within
+	 * (1 +- 1/LR_GLO)^(-2k) of 1, the rest by at most (G_hi - 1)^(-2k) */
+	double gk = pow(t, 2 * k) * m2k;
+	double lo = pow(1 + 1 / LR_GLO, 2 * k), hi = pow(1 - 1 / LR_GLO, 2 * k);
+	double rest = 2 * pow(in->ghi - 1, -2 * k);
+	res->gnull = gk;
+	if (gk > lr->gnull_min) {
+		res->a1 = 0;
+		res->gHg = NAN;
+		res->sure = gap && (gk - rest) * hi > lr->gnull_min;
+		return MESH_OK;
+	}
+	res->sure = gap && gk * lo <= lr->gnull_min;
+	/* each of the 2k terms counts a zero mode's weight about once, over t */
+	res->gHg = neum - 2 * k * gk / t;
+	res->a1 = -2.0 / res->gHg;
+	return MESH_OK;
+}
