@@ -30,7 +30,9 @@ static double now(void)
 	return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
-static int step(int ncell, int nt, int rounds)
+/* The step's tissue: a honeycomb of about ncell cells, every coordinate
+ * displaced by up to 0.05 (a fixed sequence); NULL after a message. */
+static mesh *bench_mesh(int ncell)
 {
 	int nx = (int)sqrt((double)ncell);
 	nx += nx % 2;
@@ -38,13 +40,28 @@ static int step(int ncell, int nt, int rounds)
 	mesh_error err;
 	if (lattice_honeycomb(nx, nx, &m, &err) != MESH_OK) {
 		fprintf(stderr, "threads-bench: %s\n", err.msg);
-		return 1;
+		return NULL;
 	}
 	unsigned s = 1;
 	for (int i = 0; i < 2 * m->nv; i++) {
 		s = s * 1103515245u + 12345u;
 		m->r[i] += 0.05 * (((s >> 8) & 0xffff) / 32768.0 - 1.0);
 	}
+	return m;
+}
+
+/* The tensions the step runs with. */
+static void bench_tensions(const mesh *m, double *dg)
+{
+	for (int j = 0; j < m->nj; j++)
+		dg[j] = 0.01 * sin(1.3 * j);
+}
+
+static int step(int ncell, int nt, int rounds)
+{
+	mesh *m = bench_mesh(ncell);
+	if (m == NULL)
+		return 1;
 	const model p = { .p0 = 3.7, .ka = 100 };
 	int n = 2 * m->nv;
 	double *g = malloc(n * sizeof *g), *dg = malloc((m->nj + 1) * sizeof *dg);
@@ -54,8 +71,7 @@ static int step(int ncell, int nt, int rounds)
 		fprintf(stderr, "threads-bench: out of memory\n");
 		return 1;
 	}
-	for (int j = 0; j < m->nj; j++)
-		dg[j] = 0.01 * sin(1.3 * j);
+	bench_tensions(m, dg);
 	/* enough steps for ~0.2 s per timing at ~10 ns per vertex-step */
 	long reps = (long)(2e7 / m->nv) + 1;
 	double best[2] = { INFINITY, INFINITY }, sum[2] = { 0, 0 };
@@ -85,19 +101,9 @@ static int step(int ncell, int nt, int rounds)
  * threading of it. */
 static int solo(int ncell, double sec)
 {
-	int nx = (int)sqrt((double)ncell);
-	nx += nx % 2;
-	mesh *m;
-	mesh_error err;
-	if (lattice_honeycomb(nx, nx, &m, &err) != MESH_OK) {
-		fprintf(stderr, "threads-bench: %s\n", err.msg);
+	mesh *m = bench_mesh(ncell);
+	if (m == NULL)
 		return 1;
-	}
-	unsigned s = 1;
-	for (int i = 0; i < 2 * m->nv; i++) {
-		s = s * 1103515245u + 12345u;
-		m->r[i] += 0.05 * (((s >> 8) & 0xffff) / 32768.0 - 1.0);
-	}
 	const model p = { .p0 = 3.7, .ka = 100 };
 	int n = 2 * m->nv;
 	double *g = malloc(n * sizeof *g), *dg = malloc((m->nj + 1) * sizeof *dg);
@@ -106,8 +112,7 @@ static int solo(int ncell, double sec)
 		fprintf(stderr, "threads-bench: out of memory\n");
 		return 1;
 	}
-	for (int j = 0; j < m->nj; j++)
-		dg[j] = 0.01 * sin(1.3 * j);
+	bench_tensions(m, dg);
 	long reps = (long)(2e7 / m->nv) + 1;
 	double best = INFINITY, t_end = now() + sec;
 	do {

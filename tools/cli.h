@@ -15,6 +15,10 @@
 
 enum { EXIT_INPUT = 1, EXIT_USAGE = 2, EXIT_NOCONV = 3 };
 
+/* A numeric default macro as text, for help strings: STR(ACT_RK_RTOL). */
+#define STR_(x) #x
+#define STR(x) STR_(x)
+
 /* Program name (for messages), the one-line usage synopsis, and the
  * command line as typed (getopt_long permutes argv; the history line must
  * say what was run), before any option is parsed. */

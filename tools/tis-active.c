@@ -10,9 +10,6 @@
 #include "cli.h"
 #include "select.h"
 
-#define STR_(x) #x
-#define STR(x) STR_(x)
-
 static const char usage[] =
 	"(--junction A B | --index K | --random K | --regular K | --list FILE | --network)\n"
 	"       [--rate R | --tau T] [--gamma0 G] [--sigma S] [--p0 X] [--ka Y] [--time T]\n"

@@ -11,9 +11,6 @@
 #include "anneal.h"
 #include "cli.h"
 
-#define STR_(x) #x
-#define STR(x) STR_(x)
-
 static const char usage[] =
 	"[--sigma S | --stage SIGMA:DURATION ...] [--relax T] [--tau T] [--seed N]\n"
 	"       [--p0 X] [--ka Y] [--every T] [--log FILE] [--log-every T]\n"

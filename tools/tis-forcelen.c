@@ -11,9 +11,6 @@
 #include "forcelen.h"
 #include "geom.h"
 
-#define STR_(x) #x
-#define STR(x) STR_(x)
-
 static const char usage[] =
 	"(--junction A B | --index K | --random K [--seed S] | --all) [options] [MESH]";
 static const char help[] =

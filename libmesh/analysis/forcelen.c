@@ -898,8 +898,6 @@ int fl_linear_alloc(const mesh *m, const model *p, double zerotol, double max_by
 	if (lr) {
 		lr->n = n;
 		lr->method = FL_LIN_DENSE;
-	}
-	if (lr) {
 		lr->lam = malloc(((size_t)n + 1) * sizeof *lr->lam);
 		lr->u = malloc(((size_t)n * n + 1) * sizeof *lr->u);
 		lr->kind = malloc(((size_t)n + 1) * sizeof *lr->kind);

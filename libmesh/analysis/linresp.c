@@ -4,6 +4,7 @@
 #include "hessian.h"
 #include "ldl.h"
 
+#include <lapacke.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -38,49 +39,20 @@ void linresp_get_info(const linresp *lr, linresp_info *info)
 	*info = lr->info;
 }
 
-/* The number of eigenvalues of the symmetric tridiagonal (al, be) below x
- * (Sturm sequence). */
-static int sturm_count(const double *al, const double *be, int k, double x)
+/* The smallest and the largest eigenvalue of the symmetric tridiagonal
+ * (al, be) of order k, by LAPACK's root-free QL/QR (dsterf) on copies in
+ * d and e; 0, or LAPACK's info if it failed. */
+static int tri_extremes(const double *al, const double *be, int k, double *d, double *e,
+                        double *lo, double *hi)
 {
-	int c = 0;
-	double q = 1;
-	for (int i = 0; i < k; i++) {
-		double b2 = i > 0 ? be[i - 1] * be[i - 1] : 0;
-		q = al[i] - x - (i > 0 ? b2 / q : 0);
-		if (q == 0)
-			q = -1e-300;
-		c += q < 0;
-	}
-	return c;
-}
-
-/* The largest and the smallest eigenvalue of the tridiagonal, by bisection
- * within its Gershgorin interval, to the last bits. */
-static void tri_extremes(const double *al, const double *be, int k, double *lo, double *hi)
-{
-	double a = INFINITY, b = -INFINITY;
-	for (int i = 0; i < k; i++) {
-		double r = (i > 0 ? fabs(be[i - 1]) : 0) + (i < k - 1 ? fabs(be[i]) : 0);
-		a = fmin(a, al[i] - r);
-		b = fmax(b, al[i] + r);
-	}
-	for (int which = 0; which < 2; which++) {
-		double l = a, h = b;
-		for (int it = 0; it < 200 && h - l > 4e-16 * fmax(fabs(l), fabs(h)); it++) {
-			double mid = 0.5 * (l + h);
-			int c = sturm_count(al, be, k, mid);
-			/* which 0: the smallest (count >= 1 above it); 1: the
-			 * largest (count k at or above it) */
-			if (which == 0 ? c >= 1 : c >= k)
-				h = mid;
-			else
-				l = mid;
-		}
-		if (which == 0)
-			*lo = 0.5 * (l + h);
-		else
-			*hi = 0.5 * (l + h);
-	}
+	memcpy(d, al, (size_t)k * sizeof *d);
+	memcpy(e, be, (size_t)(k > 1 ? k - 1 : 0) * sizeof *e);
+	lapack_int info = LAPACKE_dsterf(k, d, e);
+	if (info != 0)
+		return (int)info;
+	*lo = d[0];
+	*hi = d[k - 1];
+	return 0;
 }
 
 /* max |lambda| of a by Lanczos without reorthogonalization: the extreme
@@ -93,9 +65,10 @@ static int lanczos_max(const spsym *a, double *lmax)
 	int n = a->n;
 	double *v0 = calloc((size_t)n + 1, sizeof *v0), *v1 = malloc(((size_t)n + 1) * sizeof *v1),
 	       *w = malloc(((size_t)n + 1) * sizeof *w);
-	double *al = malloc(LR_LANCZOS_MAX * sizeof *al), *be = malloc(LR_LANCZOS_MAX * sizeof *be);
+	double *al = malloc(4 * LR_LANCZOS_MAX * sizeof *al), *be = al + LR_LANCZOS_MAX;
+	double *td = al + 2 * LR_LANCZOS_MAX, *te = al + 3 * LR_LANCZOS_MAX;
 	int st = MESH_OK;
-	if (!v0 || !v1 || !w || !al || !be) {
+	if (!v0 || !v1 || !w || !al) {
 		st = MESH_ENOMEM;
 		goto done;
 	}
@@ -129,7 +102,10 @@ static int lanczos_max(const spsym *a, double *lmax)
 		int stop = !(b > 1e-14 * fmax(fabs(alpha), est));   /* invariant subspace */
 		if (k % 5 == 4 || stop || k == n - 1) {
 			double lo = 0, hi = 0;
-			tri_extremes(al, be, k + 1, &lo, &hi);
+			if (tri_extremes(al, be, k + 1, td, te, &lo, &hi) != 0) {
+				st = MESH_ENOCONV;
+				goto done;
+			}
 			est = fmax(fabs(lo), fabs(hi));
 			if (stop || (k >= 19 && fabs(est - last) <= 1e-13 * est))
 				break;
@@ -148,7 +124,6 @@ done:
 	free(v1);
 	free(w);
 	free(al);
-	free(be);
 	return st;
 }
 

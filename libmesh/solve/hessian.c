@@ -40,6 +40,17 @@ void hessian_drop_translation(double *x, int nv)
 	}
 }
 
+/* The gathering product's lists and terms (hessian_ws_threads). */
+static void gather_free(hessian_ws *w)
+{
+	free(w->cofs);
+	free(w->centry);
+	free(w->vofs);
+	free(w->ventry);
+	free(w->jq);
+	free(w->jt);
+}
+
 hessian_ws *hessian_ws_alloc(const mesh *m)
 {
 	hessian_ws *w = malloc(sizeof *w);
@@ -63,12 +74,7 @@ void hessian_ws_free(hessian_ws *w)
 	free(w->jd);
 	free(w->cc);
 	free(w->dc);
-	free(w->cofs);
-	free(w->centry);
-	free(w->vofs);
-	free(w->ventry);
-	free(w->jq);
-	free(w->jt);
+	gather_free(w);
 	free(w);
 }
 
@@ -84,12 +90,7 @@ int hessian_ws_threads(hessian_ws *w, const mesh *m, int n, int min_nv)
 	if (n == 1)
 		return MESH_OK;
 	size_t nj = (size_t)m->nj + 1;
-	free(w->cofs);
-	free(w->centry);
-	free(w->vofs);
-	free(w->ventry);
-	free(w->jq);
-	free(w->jt);
+	gather_free(w);
 	w->cofs = malloc(((size_t)m->nc + 1) * sizeof *w->cofs);
 	w->vofs = malloc(((size_t)m->nv + 1) * sizeof *w->vofs);
 	w->centry = malloc(2 * nj * sizeof *w->centry);
