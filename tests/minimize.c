@@ -197,7 +197,7 @@ static int quad_pcapply(const double *r, double *z, void *data)
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(57);
+	tap_plan(60);
 	mesh_error err;
 	mesh *hex;
 	lattice_honeycomb(18, 18, &hex, &err);
@@ -371,6 +371,34 @@ int main(void)
 		mesh_free(m);
 	}
 
+	/* lstop: a junction shorter than it stops the minimization at that
+	 * evaluation (every junction is, at 10: at the first, nothing
+	 * moved); one shorter than no junction gets changes no bit. */
+	{
+		mesh *m = mesh_copy(hex), *a = NULL, *b = NULL;
+		perturb(m, 0.05, 401);
+		a = mesh_copy(m);
+		b = mesh_copy(m);
+		model p = { 3.6, 100 };
+		min_opts o;
+		min_opts_init(&o);
+		o.lstop = 10;
+		min_report rep;
+		int st = mesh_relax(a, &p, &o, &rep);
+		ok(st == MESH_ENOCONV && rep.stopped && rep.neval <= 2 &&
+		   memcmp(a->r, m->r, 2 * (size_t)m->nv * sizeof *m->r) == 0,
+		   "lstop 10: stopped after the first evaluation (%ld in all), nothing moved", rep.neval);
+		o.lstop = 1e-6;
+		st = mesh_relax(a, &p, &o, &rep);
+		int st0 = mesh_relax(b, &p, NULL, &rep);
+		ok(st == MESH_OK && st0 == MESH_OK &&
+		   memcmp(a->r, b->r, 2 * (size_t)m->nv * sizeof *m->r) == 0,
+		   "lstop 1e-6: converged, the same bytes as without");
+		mesh_free(m);
+		mesh_free(a);
+		mesh_free(b);
+	}
+
 	/* Budget and bad options. */
 	{
 		mesh *m = mesh_copy(hex);
@@ -395,6 +423,9 @@ int main(void)
 		ok(mesh_relax(m, &p, &bad, &rep) == MESH_EDOM, "unknown algorithm refused");
 		model q = { NAN, 100 };
 		ok(mesh_relax(m, &q, NULL, &rep) == MESH_EDOM, "p0 NaN refused");
+		bad = o;
+		bad.lstop = NAN;
+		ok(mesh_relax(m, &p, &bad, &rep) == MESH_EDOM, "lstop NaN refused");
 		min_algo a;
 		ok(!min_algo_parse("bogus", &a), "unknown name does not parse");
 		mesh_free(m);

@@ -684,12 +684,23 @@ typedef struct {
 	int have_prep;        /* xprep holds it */
 	double prox;          /* min_opts.prox: weight of |x - x0|^2 / 2 */
 	const double *x0;     /* its centre (the mesh's coordinates) */
+	double lstop;         /* min_opts.lstop */
+	volatile sig_atomic_t *ustop; /* the caller's min_opts.stop */
+	volatile sig_atomic_t stop;   /* min_run's, with lstop > 0 */
 } relax_ctx;
 
 static double relax_f(const double *x, double *grad, void *data)
 {
 	relax_ctx *rc = data;
 	double w = mesh_energy(rc->m, x, rc->p, grad, rc->ew);
+	if (rc->lstop > 0) {
+		const double *l = energy_ws_lengths(rc->ew);
+		for (int j = 0; j < rc->m->nj && !rc->stop; j++)
+			if (l[j] < rc->lstop)
+				rc->stop = 1;
+		if (rc->ustop && *rc->ustop)
+			rc->stop = 1;
+	}
 	if (rc->prox > 0) {
 		double q = 0;
 		for (int i = 0; i < 2 * rc->m->nv; i++) {
@@ -889,13 +900,17 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 	oo.pcapply = relax_pcapply;
 	if (rep)
 		memset(rep, 0, sizeof *rep);
-	if (!isfinite(p->p0) || !isfinite(p->ka) || p->ka < 0 || !(oo.prox >= 0 && isfinite(oo.prox)))
+	if (!isfinite(p->p0) || !isfinite(p->ka) || p->ka < 0 || !(oo.prox >= 0 && isfinite(oo.prox)) ||
+	    !(oo.lstop >= 0))
 		return MESH_EDOM;
 	if (m->nv == 0)
 		return MESH_OK;
 	relax_ctx rc = { .m = m, .p = p, .ew = energy_ws_alloc(m), .hw = hessian_ws_alloc(m),
 			 .pcmem = oo.pcmem, .kind = oo.pckind, .pcblock = oo.pcblock,
-			 .overlap = oo.pcoverlap, .prox = oo.prox, .x0 = m->r, .threads = 1 };
+			 .overlap = oo.pcoverlap, .prox = oo.prox, .x0 = m->r, .threads = 1,
+			 .lstop = oo.lstop > 0 ? oo.lstop : 0, .ustop = oo.stop };
+	if (rc.lstop > 0)
+		oo.stop = &rc.stop;
 	/* out of memory for the threads' scratch: serially, the same numbers */
 	rc.hs_threads = 1;
 	if (oo.threads > 1) {

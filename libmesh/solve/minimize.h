@@ -100,6 +100,10 @@ typedef struct {
 	                      (gradflow.h).  Then the coordinates are not
 	                      wrapped into the box, so that r - r0 is the
 	                      step's displacement */
+	double lstop;      /* mesh_relax: > 0 ends the minimization, as *stop
+	                      does, at the first evaluation where a junction
+	                      is shorter than this (at fixed topology it is
+	                      on its way to collapse); 0 (default): never */
 	int threads;       /* threads for Newton-CG's vector work and, in
 	                      mesh_relax, its kernel, Hessian products and
 	                      preconditioner (1, the default: none; the
@@ -122,7 +126,7 @@ typedef struct {
 /* Defaults: MIN_NEWTON (fastest to every force level in bench/relax.sh,
  * see bench/RESULTS.md) with polish, ftol 1e-10, maxeval 100000, gnorm,
  * hessvec, pcsetup, pcapply and stop NULL, pcmaxit 6, precond 1, pcmem 4e9,
- * pckind MIN_PC_AUTO, pcblock MIN_PC_BLOCK, prox 0.  maxeval bounds objective evaluations plus Hessian-vector
+ * pckind MIN_PC_AUTO, pcblock MIN_PC_BLOCK, prox 0, lstop 0.  maxeval bounds objective evaluations plus Hessian-vector
  * products together. */
 void min_opts_init(min_opts *o);
 
