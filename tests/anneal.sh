@@ -3,7 +3,7 @@
 # signals.  Short runs on a 6x6 tissue.
 . "$(dirname "$0")/lib.sh"
 
-plan 41
+plan 44
 
 # a mesh is valid when tis-anneal reads it back (mesh_build checks every
 # invariant) through a zero-length run
@@ -75,6 +75,21 @@ ok "settled and stepped: the same cells" cmp -s "$T/sc1" "$T/sc0"
 sed -n '/^vertices/,/^cells/p' "$T/s1.mesh" >"$T/sv1"; sed -n '/^vertices/,/^cells/p' "$T/s0.mesh" >"$T/sv0"
 ok "settled and stepped: the same vertices to 1e-8 (box edges aside)" sh -c "paste '$T/sv1' '$T/sv0' | awk 'NF == 4 {
 	d = \$1 - \$3; e = \$2 - \$4; if (d * d + e * e > 1e-16 && d * d + e * e < 1) exit 1 }'"
+
+# --settle-t1: a 100-cell Voronoi tissue whose settling at 1e-2 is
+# refused for a junction ending just below the threshold (tests/quench.c
+# checks what the jump does); the history says so, the stage settles, in
+# the cells that stepping on reaches
+fails_with 2 "--settle-t1 takes no value" tis-anneal --settle-t1=1 "$T/hex.mesh"
+tis-voronoi 100 --seed 7 --lloyd 2 --p0 3.6 >"$T/v7.mesh"
+tis-anneal --stage 0:800 --relax 0 --settle 1e-2 --settle-t1 "$T/v7.mesh" >"$T/j1.mesh"
+ok "--settle-t1: its jump in the history line, the stage settled" \
+	sh -c "grep -q 'settling with T1s: 1 jumps' '$T/j1.mesh' && grep -q '1 sigma=0 stages finished' '$T/j1.mesh'"
+tis-anneal --stage 0:800 --relax 0 --settle 1e-2 "$T/v7.mesh" >"$T/j0.mesh"
+awk '/^cells/ { c = 1 } /^(junctions|end)/ { c = 0 } c' "$T/j1.mesh" >"$T/jc1"
+awk '/^cells/ { c = 1 } /^(junctions|end)/ { c = 0 } c' "$T/j0.mesh" >"$T/jc0"
+ok "without it the stage steps on to the same cells (the jump's T1 and its undoing stepped)" \
+	sh -c "! grep -q 'settling with T1s' '$T/j0.mesh' && cmp -s '$T/jc1' '$T/jc0'"
 
 # sigma 0 on a honeycomb: force-free, nothing happens, no tension state
 # (tis-anneal numbers its input and output along a Hilbert curve: the

@@ -1,6 +1,6 @@
 /* quench_util.h - helpers the settling tests share (settle.c,
- * gradflow.c): a melted honeycomb to quench, and the distance between
- * two results. */
+ * gradflow.c, quench.c): a melted honeycomb to quench, the largest force,
+ * and the distance between two results. */
 #ifndef TIS_TEST_QUENCH_UTIL_H
 #define TIS_TEST_QUENCH_UTIL_H
 
@@ -63,6 +63,19 @@ __attribute__((unused)) static int quench_tol(mesh *m, double duration, double s
 	if (st != MESH_OK)
 		diag("quench: %s", err.msg);
 	return st;
+}
+
+/* The largest vertex force of m at its own parameters. */
+__attribute__((unused)) static double max_force(const mesh *m)
+{
+	model p = model_from_mesh(m);
+	energy_ws *w = energy_ws_alloc(m);
+	double *g = malloc(2 * (size_t)m->nv * sizeof *g);
+	mesh_energy(m, m->r, &p, g, w);
+	double f = grad_max_norm(m->nv, g);
+	free(g);
+	energy_ws_free(w);
+	return f;
 }
 
 /* Largest vertex distance by minimum image (same vertex numbering). */

@@ -35,18 +35,6 @@ static double min_length(const mesh *m)
 	return l;
 }
 
-static double max_force(const mesh *m)
-{
-	model p = model_from_mesh(m);
-	energy_ws *w = energy_ws_alloc(m);
-	double *g = malloc(2 * (size_t)m->nv * sizeof *g);
-	mesh_energy(m, m->r, &p, g, w);
-	double f = grad_max_norm(m->nv, g);
-	free(g);
-	energy_ws_free(w);
-	return f;
-}
-
 int main(void)
 {
 	tap_plan(13);

@@ -14,9 +14,9 @@
 static const char usage[] =
 	"[--sigma S | --stage SIGMA:DURATION ...] [--relax T] [--tau T] [--seed N]\n"
 	"       [--p0 X] [--ka Y] [--every T] [--log FILE] [--log-every T]\n"
-	"       [--dt DT] [--dr DR] [--ou-dt H] [--settle F] [--quench euler|adaptive]\n"
-	"       [--implicit TOL] [--paper] [--t1 L] [--t1-new L] [--t1-again F]\n"
-	"       [--threads N] [FILE]";
+	"       [--dt DT] [--dr DR] [--ou-dt H] [--settle F] [--settle-t1]\n"
+	"       [--quench euler|adaptive] [--implicit TOL] [--paper] [--t1 L]\n"
+	"       [--t1-new L] [--t1-again F] [--threads N] [FILE]";
 static const char help[] =
 	"Overdamped vertex dynamics with Ornstein-Uhlenbeck noise on every junction\n"
 	"tension and T1 transitions, run as a protocol of stages.  The default is the\n"
@@ -42,6 +42,10 @@ static const char help[] =
 	"  --settle F            in a stage without noise, once max force and tension\n"
 	"                        are <= F, minimize and skip to the stage's end\n"
 	"                        (default " STR(ANNEAL_SETTLE_DEFAULT) "; 0: step to the end)\n"
+	"  --settle-t1           a settling refused for junctions that end below the T1\n"
+	"                        threshold jumps to the minimum and flips them there\n"
+	"                        (large tissues, which otherwise creep on for thousands\n"
+	"                        of time units; off by default)\n"
 	"  --quench SCHEME       the steps of a stage without noise: adaptive (default:\n"
 	"                        T1s located as events, backward Euler steps chosen by\n"
 	"                        error once the flow is slow) or euler (the paper's\n"
@@ -53,7 +57,7 @@ static const char help[] =
 	"                        shipped samples): the paper's steps and T1 rule in\n"
 	"                        every stage (--dt 0.001 --dr 0.001 --quench euler\n"
 	"                        --implicit 0 --t1-again 0) with --ou-dt 0.01 --settle\n"
-	"                        1e-4; options after it override it\n"
+	"                        1e-4, no --settle-t1; options after it override it\n"
 	"  --t1 L                T1 threshold length (default 0.01, 0: no T1s)\n"
 	"  --t1-new L            length of a junction made by a T1 (default 0.001)\n"
 	"  --threads N           cores to compute on (default: OMP_NUM_THREADS, else all)\n"
@@ -95,7 +99,7 @@ static void parse_stage(struct opts *o, const char *arg)
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_SIGMA = 256, O_STAGE, O_RELAX, O_TAU, O_SEED, O_P0, O_KA, O_EVERY,
-	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_SETTLE, O_IMPLICIT, O_T1, O_T1NEW, O_QUENCH, O_PAPER, O_T1AGAIN,
+	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_SETTLE, O_SETTLET1, O_IMPLICIT, O_T1, O_T1NEW, O_QUENCH, O_PAPER, O_T1AGAIN,
 	       O_VERSION };
 	static const struct option lo[] = {
 		{ "sigma", required_argument, NULL, O_SIGMA },
@@ -112,6 +116,7 @@ static struct opts parse(int argc, char **argv)
 		{ "dr", required_argument, NULL, O_DR },
 		{ "ou-dt", required_argument, NULL, O_OUDT },
 		{ "settle", required_argument, NULL, O_SETTLE },
+		{ "settle-t1", no_argument, NULL, O_SETTLET1 },
 		{ "implicit", required_argument, NULL, O_IMPLICIT },
 		{ "quench", required_argument, NULL, O_QUENCH },
 		{ "paper", no_argument, NULL, O_PAPER },
@@ -143,6 +148,7 @@ static struct opts parse(int argc, char **argv)
 		case O_DR: o.a.d.dr_max = cli_double_range("--dr", optarg, 1e-9, 0.1); break;
 		case O_OUDT: o.a.d.ou_dt = cli_double_range("--ou-dt", optarg, 0, 1e9); break;
 		case O_SETTLE: o.a.d.settle = cli_double_range("--settle", optarg, 0, 1e6); break;
+		case O_SETTLET1: o.a.d.settle_t1 = 1; break;
 		case O_IMPLICIT: o.a.d.implicit = cli_double_range("--implicit", optarg, 0, 1); break;
 		case O_QUENCH:
 			if (strcmp(optarg, "adaptive") == 0)

@@ -28,6 +28,7 @@ void anneal_opts_paper(anneal_opts *o)
 	o->d.quench = DYN_QUENCH_EULER;
 	o->d.implicit = 0;
 	o->d.t1_again = 0;
+	o->d.settle_t1 = 0;
 }
 
 void anneal_default_stages(anneal_opts *o, double quench)
@@ -65,6 +66,9 @@ void anneal_protocol(const anneal_opts *o, const model *p, char *buf, size_t n)
 	mesh_run_key_num(buf, n, "implicit", o->d.implicit);
 	mesh_run_key_num(buf, n, "t1_again", o->d.t1_again);
 	mesh_run_key(buf, n, "quench", o->d.quench == DYN_QUENCH_ADAPTIVE ? "adaptive" : "euler");
+	/* only when on: the protocols of meshes made before it stay valid */
+	if (o->d.settle_t1)
+		mesh_run_key(buf, n, "settle_t1", "1");
 	mesh_run_key_num(buf, n, "p0", p->p0);
 	mesh_run_key_num(buf, n, "ka", p->ka);
 }
@@ -317,6 +321,9 @@ int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *
 		ADD("; %ld sigma=0 stages finished by Newton minimization at fixed topology once max "
 		    "force and tension <= %g (settle), covering %.10g time units", c->nsettle,
 		    o->d.settle, c->t_settled);
+	if (o->d.settle_t1)
+		ADD("; settling with T1s: %ld jumps to a minimum with T1s to do there",
+		    c->nsettle_t1);
 	if (o->d.quench == DYN_QUENCH_ADAPTIVE)
 		ADD("; adaptive quench: %ld explicit steps landed on a T1, %ld switches to implicit "
 		    "steps", c->nevent_expl, c->nswitch);

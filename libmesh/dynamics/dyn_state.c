@@ -78,6 +78,9 @@ int dyn_state_save(const dyn *d)
 	 * schemes stays as it was */
 	if (d->o.quench == DYN_QUENCH_ADAPTIVE)
 		sb_printf(&b, " %ld %ld", d->c.nevent_expl, d->c.nswitch);
+	/* and settle_t1's jumps, only when there were some */
+	if (d->o.quench == DYN_QUENCH_ADAPTIVE && d->c.nsettle_t1 > 0)
+		sb_printf(&b, " %ld", d->c.nsettle_t1);
 	if ((st = sb_set(m, "dyn_run", &b)) != MESH_OK)
 		return st;
 	if (d->noise) {
@@ -257,8 +260,12 @@ int dyn_state_load(dyn *d, mesh_error *err)
 	used += u2;
 	int u3 = 0;
 	if (run[used] != '\0' &&
-	    (sscanf(run + used, " %ld %ld%n", &c.nevent_expl, &c.nswitch, &u3) != 2 ||
-	     run[used + u3] != '\0'))
+	    sscanf(run + used, " %ld %ld%n", &c.nevent_expl, &c.nswitch, &u3) != 2)
+		return bad(err, "dyn_run");
+	used += u3;
+	int u4 = 0;
+	if (run[used] != '\0' &&
+	    (sscanf(run + used, " %ld%n", &c.nsettle_t1, &u4) != 1 || run[used + u4] != '\0'))
 		return bad(err, "dyn_run");
 	const char *rng = mesh_state_get(m, "dyn_rng");
 	if (rng) {

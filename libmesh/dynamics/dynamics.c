@@ -22,7 +22,7 @@ void dyn_opts_init(dyn_opts *o)
 	*o = (dyn_opts){ .dt_max = 1e-3, .dr_max = 1e-3, .t1_length = 0.01,
 			 .t1_new = 1e-3, .tau = 1, .sigma = 0, .mode = DYN_OU,
 			 .gamma0 = 0, .l_stop = 1e-6, .ou_dt = 0, .settle = 0,
-			 .t1_again = 0, .split = 0, .implicit = 0, .threads = 1,
+			 .t1_again = 0, .split = 0, .implicit = 0, .threads = 1, .settle_t1 = 0,
 			 .quench = DYN_QUENCH_EULER };
 }
 
@@ -379,7 +379,8 @@ static int tensions_below(const mesh *m, double lim)
 
 /* Minimize at fixed topology and jump to t_end (see dynamics.h): 1 if the
  * jump was taken, 0 if not (m untouched: the minimizer works on a copy,
- * because it wraps the coordinates), MESH_ENOMEM as -1. */
+ * because it wraps the coordinates), 2 if settle_t1 jumped to the minimum
+ * with junctions to flip there (the time unchanged), MESH_ENOMEM as -1. */
 static int settle(dyn *d, double t_end, double lshort)
 {
 	mesh *m = d->m;
@@ -390,6 +391,12 @@ static int settle(dyn *d, double t_end, double lshort)
 	min_opts_init(&mo);
 	mo.threads = d->o.threads;
 	mo.thread_min = d->o.thread_min;
+	/* a junction on its way through zero at fixed topology makes the
+	 * minimizer crawl (a refused settling of a 10^5-cell quench took
+	 * 222 s so): with settle_t1 it stops there, refused, the flow
+	 * having flipped that junction long before */
+	if (d->o.settle_t1 && d->o.t1_length > 0)
+		mo.lstop = 0.5 * d->o.t1_new;
 	int st = mesh_relax(c, &d->p, &mo, NULL);
 	/* stepping T1s a junction once it is below lshort and shrinking, so a
 	 * minimum is the stepped one only if no junction ends below lshort
@@ -400,16 +407,38 @@ static int settle(dyn *d, double t_end, double lshort)
 		double l = junction_length(c, c->r, j);
 		shrunk = !(l > lshort || l >= junction_length(m, m->r, j));
 	}
-	if (st != MESH_OK || shrunk) {
+	int jump = st == MESH_OK && shrunk && d->o.settle_t1 && d->o.t1_length > 0;
+	if (st != MESH_OK || (shrunk && !jump)) {
 		mesh_free(c);
 		return st == MESH_ENOMEM ? -1 : 0;
 	}
+	if (jump)
+		/* the T1 rule's shrink test against the lengths before the
+		 * jump: the next step flips what ended below the threshold
+		 * shorter than it was; the candidates are listed afresh
+		 * (a junction that was not one counts as shrinking) */
+		for (int k = 0; k < d->ncand; k++)
+			d->lprev[d->cand[k]] = d->l2[d->cand[k]];
 	size_t nk = (size_t)m->coff[m->nc];
 	memcpy(m->r, c->r, 2 * (size_t)m->nv * sizeof *m->r);
 	memcpy(m->jimg, c->jimg, 2 * (size_t)m->nj * sizeof *m->jimg);
 	memcpy(m->cimg, c->cimg, 2 * nk * sizeof *m->cimg);
 	mesh_kernel_build(m);
 	mesh_free(c);
+	if (jump) {
+		free(m->dg);
+		m->dg = NULL;
+		d->c.nsettle_t1++;
+		d->have_dprev = 0;
+		d->cand_ok = 0;
+		d->lmax_ok = 0;
+		/* the adaptive quench steps explicitly through the T1s'
+		 * relaxation, as after any T1 */
+		if (d->o.quench == DYN_QUENCH_ADAPTIVE)
+			d->impl = 0;
+		d->h = 0;
+		return 2;
+	}
 	/* the minimum is that of W alone: the tensions (at most settle, and
 	 * decaying) are dropped, as stepping drops them once they decay */
 	free(m->dg);
@@ -643,10 +672,16 @@ int dyn_run(dyn *d, double t_end, volatile sig_atomic_t *stop,
 			int done = settle(d, t_end, t1on ? o.t1_length : o.l_stop);
 			if (done < 0)
 				return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-			if (done) {
+			if (done == 1) {
 				if (obs)
 					obs(d, data);
 				break;
+			}
+			if (done == 2) {
+				/* the T1s at the minimum come first */
+				if (obs && obs(d, data))
+					break;
+				continue;
 			}
 			fsettle *= 0.01;
 			if (o.implicit > 0 && !d->impl && !adaptive) {

@@ -48,6 +48,19 @@
  * at settle again after the next T1 (the junction that would have
  * collapsed may be the one that flipped).
  *
+ * Settling with T1s (settle_t1 = 1, off by default): a settling refused
+ * only because junctions end below the T1 threshold shorter than they
+ * started jumps to that minimum all the same, without advancing the time,
+ * and the T1 rule then flips those junctions there (the shrink test
+ * compares with their lengths before the jump) and stepping goes on from
+ * the T1s; settling is tried again at settle after them.  The flow would
+ * flip them on the way, at the threshold; the jump flips them a little
+ * further on, at the minimum, and skips the slow creep to it, which on a
+ * large tissue never ends: while the softest modes decay, junctions
+ * whose minimum lies just below the threshold keep arriving at it, most
+ * of them flipped and flipped back at once (bench/RESULTS.md measures
+ * what it changes in the samples).
+ *
  * Implicit settling (implicit > 0, off by default: the paper's scheme is
  * explicit Euler throughout): after the first refused settling of a
  * stage, the rest of the stage is integrated by backward Euler steps of
@@ -161,6 +174,10 @@ typedef struct {
 	                      dg) once a step changes a length by more than it
 	                      is long, which dr_max = t1_new = 1e-3 allows for a
 	                      junction just made by a T1 */
+	int settle_t1;     /* 0 (default): a refused settling steps on.  1: one
+	                      refused for junctions below the T1 threshold
+	                      jumps to the minimum and flips them there
+	                      ("Settling with T1s" above) */
 	int threads;       /* threads for the step's kernel and move (1: none;
 	                      the numbers do not depend on it, geom.h) */
 	int thread_min;    /* on a tissue of at least this many vertices
@@ -178,6 +195,7 @@ typedef struct {
 	                      been longer than t1_length (flips back; not in
 	                      the state lines) */
 	long nsettle;      /* runs finished by settling */
+	long nsettle_t1;   /* settle_t1's jumps to a minimum with T1s to do */
 	double t_settled;  /* time covered by settling instead of steps */
 	long nimpl;        /* implicit steps taken (implicit > 0) */
 	long nsolve;       /* their minimizations, rejected ones included */
