@@ -8,6 +8,8 @@
  *       honeycomb of about N cells, on 1 and on NT threads (the threshold
  *       forced to 1 vertex): ns per vertex-step each, their ratio, and
  *       whether the bits agree
+ *   threads-bench hessvec N NT ROUNDS   the implicit solves' Hessian
+ *       products at one prepared point, the same way
  *   threads-bench copy MB NT ROUNDS  a STREAM-like copy b[i] = a[i] of two
  *       MB-megabyte arrays on 1 and on NT threads: GB/s copied (read plus
  *       written, as STREAM counts) */
@@ -21,6 +23,7 @@
 #endif
 
 #include "geom.h"
+#include "hessian.h"
 #include "lattice.h"
 
 static double now(void)
@@ -128,6 +131,45 @@ static int solo(int ncell, double sec)
 	return 0;
 }
 
+/* The implicit solves' inner loop: Hessian products at one prepared
+ * point (mesh_hessvec_prepared), on 1 and on NT threads (the threshold
+ * forced to 1 vertex), paired as in step: ns per vertex-product, their
+ * ratio, and whether the bits agree. */
+static int hessvec(int ncell, int nt, int rounds)
+{
+	mesh *m = bench_mesh(ncell);
+	if (m == NULL)
+		return 1;
+	const model p = { .p0 = 3.7, .ka = 100 };
+	int n = 2 * m->nv;
+	double *v = malloc(n * sizeof *v);
+	double *hv[2] = { malloc(n * sizeof(double)), malloc(n * sizeof(double)) };
+	hessian_ws *w[2] = { hessian_ws_alloc(m), hessian_ws_alloc(m) };
+	if (!v || !hv[0] || !hv[1] || !w[0] || !w[1] || hessian_ws_threads(w[1], m, nt, 1) != MESH_OK) {
+		fprintf(stderr, "threads-bench: out of memory\n");
+		return 1;
+	}
+	for (int i = 0; i < n; i++)
+		v[i] = sin(0.7 * i);
+	for (int k = 0; k < 2; k++)
+		mesh_hessvec_prepare(m, m->r, &p, w[k]);
+	long reps = (long)(1e7 / m->nv) + 1;
+	double best[2] = { INFINITY, INFINITY }, sum[2] = { 0, 0 };
+	for (int q = 0; q < rounds; q++)
+		for (int k = 0; k < 2; k++) {
+			double t0 = now();
+			for (long i = 0; i < reps; i++)
+				mesh_hessvec_prepared(m, &p, v, hv[k], w[k]);
+			double t = (now() - t0) / ((double)reps * m->nv) * 1e9;
+			best[k] = t < best[k] ? t : best[k];
+			sum[k] += t;
+		}
+	int same = memcmp(hv[0], hv[1], n * sizeof(double)) == 0;
+	printf("hessvec\t%d\t%d\t%d\t%.3f\t%.3f\t%.3f\t%.3f\t%s\n", m->nc, m->nv, nt, best[0],
+	       best[1], sum[0] / rounds, sum[1] / rounds, same ? "same" : "DIFFERENT");
+	return !same;
+}
+
 static int copy(double mb, int nt, int rounds)
 {
 	size_t n = (size_t)(mb * 1e6 / sizeof(double));
@@ -158,10 +200,13 @@ int main(int argc, char **argv)
 {
 	if (argc == 5 && strcmp(argv[1], "step") == 0)
 		return step(atoi(argv[2]), atoi(argv[3]), atoi(argv[4]));
+	if (argc == 5 && strcmp(argv[1], "hessvec") == 0)
+		return hessvec(atoi(argv[2]), atoi(argv[3]), atoi(argv[4]));
 	if (argc == 4 && strcmp(argv[1], "solo") == 0)
 		return solo(atoi(argv[2]), atof(argv[3]));
 	if (argc == 5 && strcmp(argv[1], "copy") == 0)
 		return copy(atof(argv[2]), atoi(argv[3]), atoi(argv[4]));
-	fprintf(stderr, "usage: threads-bench step N NT ROUNDS | solo N SECONDS | copy MB NT ROUNDS\n");
+	fprintf(stderr, "usage: threads-bench step N NT ROUNDS | hessvec N NT ROUNDS | solo N SECONDS |\n"
+	        "       copy MB NT ROUNDS\n");
 	return 2;
 }

@@ -15,7 +15,8 @@
 #   1. the Euler step's library calls (force kernel with tensions, move)
 #      per vertex-step, 324 cells to 10^5, in one process (threads-bench
 #      step): where threads start to pay (ENERGY_PAR_NV, geom.h); again
-#      with OMP_WAIT_POLICY=passive
+#      with OMP_WAIT_POLICY=passive; the implicit solves' Hessian products
+#      (threads-bench hessvec), the same way
 #   2. the step alone and in NT independent processes at once: the
 #      machine's bound for any threading of it; a STREAM-like copy on 1
 #      and NT threads: the memory-bandwidth bound
@@ -48,6 +49,10 @@ load
 printf 'part\tcells\tvertices\tthreads\tns_1_best\tns_NT_best\tns_1_mean\tns_NT_mean\tbits\n'
 for n in $SIZES; do
 	"$T/threads-bench" step "$n" "$NT" "$ROUNDS"
+done
+# the implicit solves' Hessian products at one point, the same way
+for n in $SIZES; do
+	"$T/threads-bench" hessvec "$n" "$NT" "$ROUNDS"
 done
 load
 # waiting threads asleep instead of spinning: what a busy machine wants
