@@ -31,7 +31,7 @@ static const char help[] =
 	"  --no-polish   do not finish with Newton-CG when the method stalls\n"
 	"  --no-precond  plain CG in Newton-CG (default: preconditioned by a\n"
 	"                sparse Cholesky factorization of the Hessian)\n"
-	"  --precond KIND  auto (default: cholesky up to 400000 vertices, schwarz\n"
+	"  --precond KIND  auto (default: cholesky up to 100000 vertices, schwarz\n"
 	"                above), cholesky (complete sparse factor), schwarz\n"
 	"                (two-level Schwarz on Hilbert patches, memory linear)\n"
 	"  --block N     schwarz: vertices per patch (default 2048)\n"

@@ -44,10 +44,11 @@ typedef double (*min_gnorm)(int n, const double *grad, void *data);
  * two-level additive Schwarz (precond.h) on patches of pcblock vertices
  * consecutive along a Hilbert curve of their positions, memory linear in
  * the tissue.  MIN_PC_AUTO: Cholesky up to MIN_PC_FULL_NV vertices (and
- * while its factor fits in pcmem), Schwarz above; chosen by measurement,
- * bench/RESULTS.md. */
+ * while its factor fits in pcmem), Schwarz above, where it is as fast on
+ * one thread and faster on two, in 0.6 of the memory (bench/RESULTS.md,
+ * "Every core"). */
 typedef enum { MIN_PC_AUTO, MIN_PC_CHOLESKY, MIN_PC_SCHWARZ } min_pckind;
-#define MIN_PC_FULL_NV 400000
+#define MIN_PC_FULL_NV 100000
 #define MIN_PC_BLOCK 2048
 #define MIN_PC_OVERLAP 2
 #define MIN_PC_COARSE 6.0  /* coarse grid spacing, in cell lengths */
