@@ -355,7 +355,8 @@ pcschwarz *pcschwarz_alloc_threads(const spsym *a, const int *part, int nblock, 
 		most = e > most ? e : most;
 		big = s->bstart[b + 1] - s->bstart[b] > big ? s->bstart[b + 1] - s->bstart[b] : big;
 	}
-	s->wb = malloc(((size_t)big + 1) * sizeof *s->wb);
+	/* on threads every block solves into its own slice */
+	s->wb = malloc(((size_t)(nt > 1 ? s->bstart[nblock] : big) + 1) * sizeof *s->wb);
 	s->wx = malloc(((size_t)n + 1) * sizeof *s->wx);
 	ij = malloc((2 * most + 2) * nt * sizeof *ij);
 	if (s->wb == NULL || s->wx == NULL || ij == NULL)
@@ -491,7 +492,32 @@ int pcschwarz_solve(pcschwarz *s, const double *b, double *x)
 	}
 	/* blocks overlap: sum into wx, since x may alias b */
 	memset(s->wx, 0, (size_t)s->n * sizeof *s->wx);
-	for (int k = 0; k < s->nblock; k++) {
+	if (s->nthr > 1) {
+		/* the blocks' solves on threads, each into its slice, then the
+		 * sums in the serial order: the same bits */
+		int stb = s->nblock, stv = MESH_OK;
+#pragma omp parallel for num_threads(s->nthr) schedule(dynamic, 1)
+		for (int k = 0; k < s->nblock; k++) {
+			const int *v = s->vars + s->bstart[k];
+			int nb = s->bstart[k + 1] - s->bstart[k];
+			double *wk = s->wb + s->bstart[k];
+			for (int i = 0; i < nb; i++)
+				wk[i] = b[v[i]];
+			int st = spchol_solve_status(s->bc[k], wk, wk);
+			if (st != MESH_OK) {
+#pragma omp critical(pcschwarz_solve_fail)
+				if (k < stb) {
+					stb = k;
+					stv = st;
+				}
+			}
+		}
+		if (stb < s->nblock)
+			return stv;
+		for (int p = 0; p < s->bstart[s->nblock]; p++)
+			s->wx[s->vars[p]] += s->wb[p];
+	}
+	for (int k = 0; k < s->nblock && s->nthr <= 1; k++) {
 		const int *v = s->vars + s->bstart[k];
 		int nb = s->bstart[k + 1] - s->bstart[k];
 		for (int i = 0; i < nb; i++)
