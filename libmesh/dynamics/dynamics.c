@@ -395,7 +395,8 @@ static int settle(dyn *d, double t_end, double lshort)
 	 * minimizer crawl (a refused settling of a 10^5-cell quench took
 	 * 222 s so): with settle_t1 it stops there, refused, the flow
 	 * having flipped that junction long before */
-	if (d->o.settle_t1 && d->o.t1_length > 0)
+	const int t1jump = d->o.settle_t1 && d->o.t1_length > 0;
+	if (t1jump)
 		mo.lstop = 0.5 * d->o.t1_new;
 	int st = mesh_relax(c, &d->p, &mo, NULL);
 	/* stepping T1s a junction once it is below lshort and shrinking, so a
@@ -407,7 +408,7 @@ static int settle(dyn *d, double t_end, double lshort)
 		double l = junction_length(c, c->r, j);
 		shrunk = !(l > lshort || l >= junction_length(m, m->r, j));
 	}
-	int jump = st == MESH_OK && shrunk && d->o.settle_t1 && d->o.t1_length > 0;
+	int jump = st == MESH_OK && shrunk && t1jump;
 	if (st != MESH_OK || (shrunk && !jump)) {
 		mesh_free(c);
 		return st == MESH_ENOMEM ? -1 : 0;
@@ -425,12 +426,15 @@ static int settle(dyn *d, double t_end, double lshort)
 	memcpy(m->cimg, c->cimg, 2 * nk * sizeof *m->cimg);
 	mesh_kernel_build(m);
 	mesh_free(c);
+	/* the minimum is that of W alone: the tensions (at most settle, and
+	 * decaying) are dropped, as stepping drops them once they decay; the
+	 * vertices jumped: candidates afresh */
+	free(m->dg);
+	m->dg = NULL;
+	d->have_dprev = 0;
+	d->cand_ok = 0;
 	if (jump) {
-		free(m->dg);
-		m->dg = NULL;
 		d->c.nsettle_t1++;
-		d->have_dprev = 0;
-		d->cand_ok = 0;
 		d->lmax_ok = 0;
 		/* the adaptive quench steps explicitly through the T1s'
 		 * relaxation, as after any T1 */
@@ -439,17 +443,10 @@ static int settle(dyn *d, double t_end, double lshort)
 		d->h = 0;
 		return 2;
 	}
-	/* the minimum is that of W alone: the tensions (at most settle, and
-	 * decaying) are dropped, as stepping drops them once they decay */
-	free(m->dg);
-	m->dg = NULL;
 	d->c.nsettle++;
 	d->c.t_settled += t_end - d->c.t;
 	d->c.t = t_end;
-	/* the vertices jumped: no shrink history, fresh candidates */
-	d->have_lprev = 0;
-	d->have_dprev = 0;
-	d->cand_ok = 0;
+	d->have_lprev = 0;   /* and no shrink history */
 	return 1;
 }
 

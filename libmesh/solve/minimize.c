@@ -908,7 +908,7 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 	relax_ctx rc = { .m = m, .p = p, .ew = energy_ws_alloc(m), .hw = hessian_ws_alloc(m),
 			 .pcmem = oo.pcmem, .kind = oo.pckind, .pcblock = oo.pcblock,
 			 .overlap = oo.pcoverlap, .prox = oo.prox, .x0 = m->r, .threads = 1,
-			 .lstop = oo.lstop > 0 ? oo.lstop : 0, .ustop = oo.stop };
+			 .lstop = oo.lstop, .ustop = oo.stop };
 	if (rc.lstop > 0)
 		oo.stop = &rc.stop;
 	/* out of memory for the threads' scratch: serially, the same numbers */

@@ -26,7 +26,8 @@ struct pcschwarz {
 	double *w;
 	int *epair;           /* a->nnz: element pair of each entry of a */
 	int *epos;            /* k * k per element pair: positions in ca->val */
-	double *wb, *wc, *wx; /* scratch: largest block, coarse vector, n */
+	double *wb, *wc, *wx; /* scratch: every block's slice (bstart), coarse
+	                         vector, n */
 	int annz;
 	int ok;               /* every factor usable */
 	int nthr;             /* threads over the blocks (1: none) */
@@ -344,19 +345,17 @@ pcschwarz *pcschwarz_alloc_threads(const spsym *a, const int *part, int nblock, 
 	}
 	if (grow_blocks(s, a, part, overlap, mark) != 0)
 		goto fail;
-	/* scratch for the largest block and its pairs: at most all of a's
-	 * entries in its columns */
+	/* scratch for the largest block's pairs: at most all of a's entries
+	 * in its columns */
 	size_t most = 0;
-	int big = 0;
 	for (int b = 0; b < nblock; b++) {
 		size_t e = 0;
 		for (int k = s->bstart[b]; k < s->bstart[b + 1]; k++)
 			e += a->colp[s->vars[k] + 1] - a->colp[s->vars[k]];
 		most = e > most ? e : most;
-		big = s->bstart[b + 1] - s->bstart[b] > big ? s->bstart[b + 1] - s->bstart[b] : big;
 	}
-	/* on threads every block solves into its own slice */
-	s->wb = malloc(((size_t)(nt > 1 ? s->bstart[nblock] : big) + 1) * sizeof *s->wb);
+	/* every block solves into its own slice (on any thread) */
+	s->wb = malloc(((size_t)s->bstart[nblock] + 1) * sizeof *s->wb);
 	s->wx = malloc(((size_t)n + 1) * sizeof *s->wx);
 	ij = malloc((2 * most + 2) * nt * sizeof *ij);
 	if (s->wb == NULL || s->wx == NULL || ij == NULL)
@@ -492,42 +491,30 @@ int pcschwarz_solve(pcschwarz *s, const double *b, double *x)
 	}
 	/* blocks overlap: sum into wx, since x may alias b */
 	memset(s->wx, 0, (size_t)s->n * sizeof *s->wx);
-	if (s->nthr > 1) {
-		/* the blocks' solves on threads, each into its slice, then the
-		 * sums in the serial order: the same bits */
-		int stb = s->nblock, stv = MESH_OK;
-#pragma omp parallel for num_threads(s->nthr) schedule(dynamic, 1)
-		for (int k = 0; k < s->nblock; k++) {
-			const int *v = s->vars + s->bstart[k];
-			int nb = s->bstart[k + 1] - s->bstart[k];
-			double *wk = s->wb + s->bstart[k];
-			for (int i = 0; i < nb; i++)
-				wk[i] = b[v[i]];
-			int st = spchol_solve_status(s->bc[k], wk, wk);
-			if (st != MESH_OK) {
-#pragma omp critical(pcschwarz_solve_fail)
-				if (k < stb) {
-					stb = k;
-					stv = st;
-				}
-			}
-		}
-		if (stb < s->nblock)
-			return stv;
-		for (int p = 0; p < s->bstart[s->nblock]; p++)
-			s->wx[s->vars[p]] += s->wb[p];
-	}
-	for (int k = 0; k < s->nblock && s->nthr <= 1; k++) {
+	/* the blocks' solves on threads, each into its slice, then the sums
+	 * in one order whatever the threads: the same bits; a failure
+	 * reports the lowest failing block's status */
+	int stb = s->nblock, stv = MESH_OK;
+#pragma omp parallel for num_threads(s->nthr) schedule(dynamic, 1) if (s->nthr > 1)
+	for (int k = 0; k < s->nblock; k++) {
 		const int *v = s->vars + s->bstart[k];
 		int nb = s->bstart[k + 1] - s->bstart[k];
+		double *wk = s->wb + s->bstart[k];
 		for (int i = 0; i < nb; i++)
-			s->wb[i] = b[v[i]];
-		int st = spchol_solve_status(s->bc[k], s->wb, s->wb);
-		if (st != MESH_OK)
-			return st;
-		for (int i = 0; i < nb; i++)
-			s->wx[v[i]] += s->wb[i];
+			wk[i] = b[v[i]];
+		int st = spchol_solve_status(s->bc[k], wk, wk);
+		if (st != MESH_OK) {
+#pragma omp critical(pcschwarz_solve_fail)
+			if (k < stb) {
+				stb = k;
+				stv = st;
+			}
+		}
 	}
+	if (stb < s->nblock)
+		return stv;
+	for (int p = 0; p < s->bstart[s->nblock]; p++)
+		s->wx[s->vars[p]] += s->wb[p];
 	for (int i = 0; i < s->n; i++) {
 		double c = 0;
 		for (int u = 0; s->ca && u < s->k; u++)
