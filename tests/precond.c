@@ -17,6 +17,7 @@
 #include "sparse.h"
 #include "sparse_util.h"
 #include "tap.h"
+#include "voronoi.h"
 
 /* Largest |sparse - dense| relative to the largest entry. */
 static double hessian_mismatch(const mesh *m, const model *p)
@@ -37,10 +38,60 @@ static double hessian_mismatch(const mesh *m, const model *p)
 	return e / hm;
 }
 
+/* hessian_sparse_alloc's pattern and maps against their definitions:
+ * the pattern is spsym_alloc's of every pair of variables in a cell, pos
+ * finds each lower entry of a cell's block, fc is the lowest cell whose
+ * block holds the entry.  1 if all agree. */
+static int pattern_ok(const mesh *m)
+{
+	long np = 0;
+	for (int k = 0; k < m->nc; k++) {
+		int n2 = 2 * (m->coff[k + 1] - m->coff[k]);
+		np += (long)n2 * n2;
+	}
+	int *ij = malloc(2 * np * sizeof *ij), q = 0;
+	for (int k = 0; k < m->nc; k++)
+		for (int i = m->coff[k]; i < m->coff[k + 1]; i++)
+			for (int j = m->coff[k]; j < m->coff[k + 1]; j++)
+				for (int d = 0; d < 4; d++) {
+					ij[2 * q] = 2 * m->cv[i] + d / 2;
+					ij[2 * q + 1] = 2 * m->cv[j] + d % 2;
+					q++;
+				}
+	spsym *a = spsym_alloc(2 * m->nv, q, ij);
+	hessian_sparse *hs = hessian_sparse_alloc(m);
+	int good = a && hs && a->nnz == hs->h->nnz &&
+	           memcmp(a->colp, hs->h->colp, (a->n + 1) * sizeof *a->colp) == 0 &&
+	           memcmp(a->rowi, hs->h->rowi, a->nnz * sizeof *a->rowi) == 0;
+	int *fc = malloc((a ? a->nnz : 1) * sizeof *fc);
+	for (int p = 0; good && p < a->nnz; p++)
+		fc[p] = -1;
+	for (int k = m->nc - 1; good && k >= 0; k--) {
+		int s = m->coff[k], n2 = 2 * (m->coff[k + 1] - s);
+		for (int I = 0; I < n2; I++)
+			for (int J = 0; J < n2; J++) {
+				int gi = 2 * m->cv[s + I / 2] + I % 2, gj = 2 * m->cv[s + J / 2] + J % 2;
+				int p = hs->pos[hs->poff[k] + I * n2 + J];
+				if (gi < gj ? p != -1 : (p != spsym_find(a, gi, gj) || p < 0))
+					good = 0;
+				else if (gi >= gj)
+					fc[p] = k;
+			}
+	}
+	for (int p = 0; good && p < a->nnz; p++)
+		if (fc[p] != hs->fc[p])
+			good = 0;
+	free(ij);
+	free(fc);
+	spsym_free(a);
+	hessian_sparse_free(hs);
+	return good;
+}
+
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(55);
+	tap_plan(56);
 	mesh_error err;
 
 	/* 1. Sparse Hessian = dense Hessian, on a honeycomb across the box
@@ -74,6 +125,21 @@ int main(void)
 		int badij[] = { 0, 4 };
 		ok(spsym_alloc(4, 1, badij) == NULL, "index out of range refused");
 		spsym_free(a);
+	}
+
+	/* 2b. The sparse Hessian's pattern and maps, made vertex by
+	 * vertex, against their definitions from the cells' pairs: on a
+	 * honeycomb and on a Voronoi tissue of 4- to 8-gons. */
+	{
+		mesh *h = NULL, *v = NULL;
+		double xy[2 * 60];
+		int built = lattice_honeycomb(4, 4, &h, &err) == MESH_OK &&
+		            voronoi_seeds_random(3, 8, 8, 60, xy, &err) == MESH_OK &&
+		            voronoi_tissue(8, 8, 60, xy, &v, NULL, &err) == MESH_OK;
+		ok(built && pattern_ok(h) && pattern_ok(v),
+		   "sparse Hessian: pattern, positions and first cells as the cells' pairs define them");
+		mesh_free(h);
+		mesh_free(v);
 	}
 
 	/* 3. Cholesky of the Hessian of a stable tissue, shifted: solve

@@ -11,6 +11,7 @@
 #include "geom.h"
 #include "hessian.h"
 #include "lattice.h"
+#include "minimize.h"
 #include "precond.h"
 #include "tap.h"
 
@@ -74,35 +75,47 @@ static int same_bits(const mesh *m, int nt, const char *what)
 	return same;
 }
 
-/* The sparse Hessian assembled on nt threads against one, bit for bit;
- * then the Schwarz preconditioner on its blocks (no coarse level),
- * analysed and factored on nt threads and applied to a vector, against
- * one thread. */
+/* The sparse Hessian's pattern and maps made and its values assembled on
+ * nt threads against one, bit for bit; then the Schwarz preconditioner on
+ * its blocks, without and with the coarse level, analysed and factored
+ * on nt threads and applied to a vector, against one thread. */
 static int hessian_same(const mesh *m, int nt)
 {
 	const model p = { .p0 = 3.7, .ka = 100 };
-	hessian_sparse *h1 = hessian_sparse_alloc(m), *hn = hessian_sparse_alloc(m);
-	if (!h1 || !hn || hessian_sparse_threads(hn, nt, 1) != MESH_OK)
+	hessian_sparse *h1 = hessian_sparse_alloc(m), *hn = hessian_sparse_alloc_threads(m, nt, 1);
+	if (!h1 || !hn || hn->nthr != nt)
 		return 0;
 	mesh_hessian_sparse(m, m->r, &p, h1);
 	mesh_hessian_sparse(m, m->r, &p, hn);
-	int same = h1->h->nnz == hn->h->nnz &&
-	           memcmp(h1->h->val, hn->h->val, h1->h->nnz * sizeof *h1->h->val) == 0;
+	const spsym *a1 = h1->h, *an = hn->h;
+	int same = a1->nnz == an->nnz && memcmp(a1->colp, an->colp, (a1->n + 1) * sizeof *a1->colp) == 0 &&
+	           memcmp(a1->rowi, an->rowi, a1->nnz * sizeof *a1->rowi) == 0 &&
+	           memcmp(h1->fc, hn->fc, a1->nnz * sizeof *h1->fc) == 0 &&
+	           memcmp(h1->poff, hn->poff, (m->nc + 1) * sizeof *h1->poff) == 0 &&
+	           memcmp(h1->pos, hn->pos, h1->poff[m->nc] * sizeof *h1->pos) == 0 &&
+	           memcmp(a1->val, an->val, a1->nnz * sizeof *a1->val) == 0;
 	int n = 2 * m->nv, nb = 13, *part = malloc(n * sizeof *part);
 	double *b = malloc(n * sizeof *b), *x1 = malloc(n * sizeof *x1), *xn = malloc(n * sizeof *xn);
 	for (int i = 0; i < n; i++) {
 		part[i] = (int)((long)(i / 2) * nb / m->nv);
 		b[i] = sin(0.37 * i);
 	}
-	pcschwarz *s1 = pcschwarz_alloc_threads(h1->h, part, nb, 2, NULL, 1);
-	pcschwarz *sn = pcschwarz_alloc_threads(h1->h, part, nb, 2, NULL, nt);
-	double sh1 = 0, shn = 0;
-	same = same && s1 && sn && pcschwarz_precond(s1, h1->h, &sh1) == MESH_OK &&
-	       pcschwarz_precond(sn, h1->h, &shn) == MESH_OK && sh1 == shn &&
-	       pcschwarz_solve(s1, b, x1) == MESH_OK && pcschwarz_solve(sn, b, xn) == MESH_OK &&
-	       memcmp(x1, xn, n * sizeof *x1) == 0;
-	pcschwarz_free(s1);
-	pcschwarz_free(sn);
+	mesh_pcgrid g;
+	if (mesh_pcgrid_build(m, m->r, MIN_PC_COARSE, &g) != MESH_OK)
+		same = 0;
+	for (int coarse = 0; coarse < 2 && same; coarse++) {
+		const pccoarse *co = coarse ? &g.co : NULL;
+		pcschwarz *s1 = pcschwarz_alloc_threads(h1->h, part, nb, 2, co, 1);
+		pcschwarz *sn = pcschwarz_alloc_threads(h1->h, part, nb, 2, co, nt);
+		double sh1 = 0, shn = 0;
+		same = s1 && sn && pcschwarz_precond(s1, h1->h, &sh1) == MESH_OK &&
+		       pcschwarz_precond(sn, h1->h, &shn) == MESH_OK && sh1 == shn &&
+		       pcschwarz_solve(s1, b, x1) == MESH_OK && pcschwarz_solve(sn, b, xn) == MESH_OK &&
+		       memcmp(x1, xn, n * sizeof *x1) == 0;
+		pcschwarz_free(s1);
+		pcschwarz_free(sn);
+	}
+	mesh_pcgrid_free(&g);
 	hessian_sparse_free(h1);
 	hessian_sparse_free(hn);
 	free(part);
@@ -204,7 +217,7 @@ int main(void)
 	   same_bits(shb, 2, "shuffled, 40000 cells"),
 	   "junctions in random order (the serial fallback): bit for bit as 1");
 	ok(hessian_same(mid, 2) && hessian_same(mid, 3) && hessian_same(small, 7),
-	   "sparse Hessian and Schwarz factors on 2, 3, 7 threads bit for bit as on 1");
+	   "sparse Hessian (pattern, maps, values) and Schwarz factors and solves, with and without the coarse level, on 2, 3, 7 threads bit for bit as on 1");
 	ok(sh && hessian_same(sh, 3), "the same with the cells in random order");
 	ok(hessvec_same(mid, 2) && hessvec_same(mid, 3) && hessvec_same(small, 7),
 	   "Hessian-vector products on 2, 3, 7 threads bit for bit as on 1");

@@ -312,70 +312,213 @@ int mesh_hessian(const mesh *m, const double *r, const model *p, double *h)
 	return MESH_OK;
 }
 
+/* Sorts a[0..n) ascending (short lists: a vertex's neighbours) and drops
+ * repeats; returns how many remain. */
+static int sort_unique(int *a, int n)
+{
+	for (int i = 1; i < n; i++) {
+		int v = a[i], j = i;
+		for (; j > 0 && a[j - 1] > v; j--)
+			a[j] = a[j - 1];
+		a[j] = v;
+	}
+	int u = 0;
+	for (int i = 0; i < n; i++)
+		if (u == 0 || a[u - 1] != a[i])
+			a[u++] = a[i];
+	return u;
+}
+
+/* The pattern vertex by vertex: the columns 2v and 2v + 1 of the lower
+ * triangle hold the rows of v itself and of every vertex u > v that
+ * shares a cell with v, so each vertex's columns are made alone (on
+ * threads) from the cells around it; the same pattern as the pairs of
+ * every cell through spsym_alloc, without sorting ~80 pairs per cell.
+ * vo/vc: the cells of each vertex, ascending (CSR). */
+static spsym *sparse_pattern(const mesh *m, const int *vo, const int *vc, int nt)
+{
+	const int nv = m->nv;
+	spsym *a = calloc(1, sizeof *a);
+	size_t *uo = malloc(((size_t)nv + 1) * sizeof *uo);
+	int *cnt = malloc(((size_t)nv + 1) * sizeof *cnt), *nb = NULL;
+	if (a == NULL || uo == NULL || cnt == NULL)
+		goto fail;
+	a->n = 2 * nv;
+	uo[0] = 0;
+	for (int v = 0; v < nv; v++) {
+		size_t e = 0;
+		for (int q = vo[v]; q < vo[v + 1]; q++)
+			e += m->coff[vc[q] + 1] - m->coff[vc[q]];
+		uo[v + 1] = uo[v] + e;
+	}
+	if ((nb = malloc((uo[nv] + 1) * sizeof *nb)) == NULL)
+		goto fail;
+#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
+	for (int v = 0; v < nv; v++) {
+		int *u = nb + uo[v], k = 0;
+		for (int q = vo[v]; q < vo[v + 1]; q++)
+			for (int i = m->coff[vc[q]]; i < m->coff[vc[q] + 1]; i++)
+				if (m->cv[i] > v)
+					u[k++] = m->cv[i];
+		cnt[v] = sort_unique(u, k);
+	}
+	if ((a->colp = malloc(((size_t)a->n + 1) * sizeof *a->colp)) == NULL)
+		goto fail;
+	/* a vertex in no cell keeps only its diagonal, as spsym_alloc's */
+	long nnz = 0;
+	a->colp[0] = 0;
+	for (int v = 0; v < nv; v++) {
+		nnz += (vo[v + 1] > vo[v] ? 2 : 1) + 2L * cnt[v];
+		a->colp[2 * v + 1] = (int)(nnz < INT_MAX ? nnz : 0);
+		nnz += 1 + 2L * cnt[v];
+		a->colp[2 * v + 2] = (int)(nnz < INT_MAX ? nnz : 0);
+	}
+	if (nnz >= INT_MAX)
+		goto fail;
+	a->nnz = (int)nnz;
+	a->rowi = malloc(((size_t)nnz + 1) * sizeof *a->rowi);
+	a->val = calloc((size_t)nnz + 1, sizeof *a->val);
+	if (a->rowi == NULL || a->val == NULL)
+		goto fail;
+#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
+	for (int v = 0; v < nv; v++) {
+		const int *u = nb + uo[v];
+		int *r0 = a->rowi + a->colp[2 * v], *r1 = a->rowi + a->colp[2 * v + 1];
+		*r0++ = 2 * v;
+		if (vo[v + 1] > vo[v])
+			*r0++ = 2 * v + 1;
+		*r1++ = 2 * v + 1;
+		for (int k = 0; k < cnt[v]; k++) {
+			r0[2 * k] = r1[2 * k] = 2 * u[k];
+			r0[2 * k + 1] = r1[2 * k + 1] = 2 * u[k] + 1;
+		}
+	}
+	free(uo);
+	free(cnt);
+	free(nb);
+	return a;
+fail:
+	free(uo);
+	free(cnt);
+	free(nb);
+	spsym_free(a);
+	return NULL;
+}
+
+/* The positions in h (sparse_pattern's) of the entries (2u + di, 2w + dj)
+ * into p[2 di + dj]: -1 for those in the upper triangle.  u and w share a
+ * cell. */
+static void pair_pos(const spsym *h, int u, int w, int p[4])
+{
+	if (u == w) {
+		p[0] = h->colp[2 * w];
+		p[1] = -1;
+		p[2] = p[0] + 1;
+		p[3] = h->colp[2 * w + 1];
+	} else if (u > w) {
+		int p0 = spsym_find(h, 2 * u, 2 * w), off = h->colp[2 * w + 1] - h->colp[2 * w] - 1;
+		p[0] = p0;
+		p[1] = p0 + off;
+		p[2] = p0 + 1;
+		p[3] = p0 + 1 + off;
+	} else {
+		p[0] = p[1] = p[2] = p[3] = -1;
+	}
+}
+
 hessian_sparse *hessian_sparse_alloc(const mesh *m)
 {
-	hessian_sparse *hs = calloc(1, sizeof *hs);
-	if (hs == NULL)
+	return hessian_sparse_alloc_threads(m, 1, 0);
+}
+
+hessian_sparse *hessian_sparse_alloc_threads(const mesh *m, int threads, int min_nv)
+{
+	if (threads < 1 || threads > ENERGY_MAXTHREADS)
 		return NULL;
-	long npos = 0, npairs = 0;
+	int nt = m->nv >= (min_nv > 0 ? min_nv : ENERGY_PAR_NV) ? threads : 1;
+	hessian_sparse *hs = calloc(1, sizeof *hs);
+	int *vo = calloc((size_t)m->nv + 1, sizeof *vo);
+	int *vc = malloc(((size_t)m->coff[m->nc] + 1) * sizeof *vc);
+	if (hs == NULL || vo == NULL || vc == NULL)
+		goto fail;
+	long npos = 0;
 	for (int k = 0; k < m->nc; k++) {
 		int ns = m->coff[k + 1] - m->coff[k];
 		if (ns > hs->nmax)
 			hs->nmax = ns;
 		npos += 4L * ns * ns;
-		npairs += (long)ns * (ns - 1) / 2 * 4 + 3L * ns;
 	}
-	int *ij = malloc((2 * (size_t)npairs + 2) * sizeof *ij);
+	if (npos >= INT_MAX)
+		goto fail;
+	for (int i = 0; i < m->coff[m->nc]; i++)
+		vo[m->cv[i] + 1]++;
+	for (int v = 0; v < m->nv; v++)
+		vo[v + 1] += vo[v];
+	for (int k = 0; k < m->nc; k++)
+		for (int i = m->coff[k]; i < m->coff[k + 1]; i++)
+			vc[vo[m->cv[i]]++] = k;
+	for (int v = m->nv; v > 0; v--)
+		vo[v] = vo[v - 1];
+	vo[0] = 0;
 	hs->poff = malloc(((size_t)m->nc + 1) * sizeof *hs->poff);
 	hs->pos = malloc(((size_t)npos + 1) * sizeof *hs->pos);
 	hs->nloc = 4 * hs->nmax * hs->nmax + 9 * hs->nmax + 1;
 	hs->loc = malloc((size_t)hs->nloc * sizeof *hs->loc);
 	hs->nthr = 1;
-	if (ij == NULL || hs->poff == NULL || hs->pos == NULL || hs->loc == NULL)
+	if (hs->poff == NULL || hs->pos == NULL || hs->loc == NULL ||
+	    (hs->h = sparse_pattern(m, vo, vc, nt)) == NULL ||
+	    (hs->fc = malloc(((size_t)hs->h->nnz + 1) * sizeof *hs->fc)) == NULL)
 		goto fail;
-	long q = 0;
-	for (int k = 0; k < m->nc; k++)
-		for (int i = m->coff[k]; i < m->coff[k + 1]; i++)
-			for (int j = m->coff[k]; j <= i; j++) {
-				int vi = m->cv[i], vj = m->cv[j];
-				for (int di = 0; di < 2; di++)
-					for (int dj = 0; dj < 2; dj++) {
-						if (i == j && dj > di)
-							continue;
-						ij[2 * q] = 2 * vi + di;
-						ij[2 * q + 1] = 2 * vj + dj;
-						q++;
-					}
-			}
-	hs->h = spsym_alloc(2 * m->nv, (int)q, ij);
-	if (hs->h == NULL)
-		goto fail;
-	free(ij);
-	ij = NULL;
 	hs->poff[0] = 0;
+	for (int k = 0; k < m->nc; k++) {
+		int n2 = 2 * (m->coff[k + 1] - m->coff[k]);
+		hs->poff[k + 1] = hs->poff[k] + n2 * n2;
+	}
+	const spsym *h = hs->h;
+	/* positions by vertex pairs: in the columns of vertex w, vertex u >
+	 * w's rows 2u, 2u + 1 follow one another, at the same distance from
+	 * the end of column 2w as of column 2w + 1 (sparse_pattern) */
+#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
 	for (int k = 0; k < m->nc; k++) {
 		int s = m->coff[k], ns = m->coff[k + 1] - s, n2 = 2 * ns;
 		int *pk = hs->pos + hs->poff[k];
-		for (int I = 0; I < n2; I++)
-			for (int J = 0; J < n2; J++) {
-				int gi = 2 * m->cv[s + I / 2] + I % 2, gj = 2 * m->cv[s + J / 2] + J % 2;
-				/* Local pairs whose global entry lies in the lower
-				 * triangle; a diagonal entry gets each ordered pair. */
-				pk[I * n2 + J] = gi >= gj ? spsym_find(hs->h, gi, gj) : -1;
+		for (int a = 0; a < ns; a++)
+			for (int b = 0; b < ns; b++) {
+				int p[4];
+				pair_pos(h, m->cv[s + a], m->cv[s + b], p);
+				for (int d = 0; d < 4; d++)
+					pk[(2 * a + d / 2) * n2 + 2 * b + d % 2] = p[d];
 			}
-		hs->poff[k + 1] = hs->poff[k] + n2 * n2;
 	}
-	if ((hs->fc = malloc(((size_t)hs->h->nnz + 1) * sizeof *hs->fc)) == NULL)
-		goto fail;
-	for (int p = 0; p < hs->h->nnz; p++)
-		hs->fc[p] = INT_MAX;
-	for (int k = m->nc - 1; k >= 0; k--)
-		for (int i = hs->poff[k]; i < hs->poff[k + 1]; i++)
-			if (hs->pos[i] >= 0)
-				hs->fc[hs->pos[i]] = k;
+	/* the first cell of an entry: vertex v's columns are touched only
+	 * by v's cells, met here in ascending order */
+#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
+	for (int v = 0; v < m->nv; v++) {
+		for (int p = h->colp[2 * v]; p < h->colp[2 * v + 2]; p++)
+			hs->fc[p] = INT_MAX;
+		for (int q = vo[v]; q < vo[v + 1]; q++) {
+			int k = vc[q];
+			for (int i = m->coff[k]; i < m->coff[k + 1]; i++) {
+				int p[4];
+				if (m->cv[i] < v)
+					continue;
+				pair_pos(h, m->cv[i], v, p);
+				for (int d = 0; d < 4; d++)
+					if (p[d] >= 0 && hs->fc[p[d]] == INT_MAX)
+						hs->fc[p[d]] = k;
+			}
+		}
+	}
+	free(vo);
+	free(vc);
+	/* no room for the assembly's scratch on threads: it runs serially,
+	 * the same values */
+	if (threads > 1)
+		hessian_sparse_threads(hs, threads, min_nv);
 	return hs;
 fail:
-	free(ij);
+	free(vo);
+	free(vc);
 	hessian_sparse_free(hs);
 	return NULL;
 }

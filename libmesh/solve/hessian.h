@@ -101,6 +101,12 @@ typedef struct {
 
 /* Pattern and maps for m's topology.  NULL if out of memory. */
 hessian_sparse *hessian_sparse_alloc(const mesh *m);
+/* The same made on up to threads threads (where m has at least min_nv
+ * vertices; <= 0: ENERGY_PAR_NV), the same pattern and maps at any
+ * count, and set up for mesh_hessian_sparse on them
+ * (hessian_sparse_threads; without memory for that, serially).  NULL if out of memory or threads is outside
+ * 1..ENERGY_MAXTHREADS. */
+hessian_sparse *hessian_sparse_alloc_threads(const mesh *m, int threads, int min_nv);
 /* n threads for mesh_hessian_sparse on at least min_nv vertices (<= 0:
  * ENERGY_PAR_NV), as energy_ws_threads: the values are the serial ones,
  * bit for bit (each entry summed in cell order).  MESH_EDOM, MESH_ENOMEM

@@ -834,10 +834,9 @@ static int relax_pcsetup(const double *x, void *data)
 	relax_ctx *rc = data;
 	rc->have = 0;
 	if (rc->hs == NULL) {
-		if ((rc->hs = hessian_sparse_alloc(rc->m)) == NULL)
+		rc->hs = hessian_sparse_alloc_threads(rc->m, rc->hs_threads, rc->thread_min);
+		if (rc->hs == NULL)
 			return -1;
-		if (rc->hs_threads > 1)
-			hessian_sparse_threads(rc->hs, rc->hs_threads, rc->thread_min);
 	}
 	mesh_hessian_sparse(rc->m, x, rc->p, rc->hs);
 	/* the proximal term's Hessian: prox on the diagonal (first in its

@@ -26,8 +26,10 @@ struct pcschwarz {
 	double *w;
 	int *epair;           /* a->nnz: element pair of each entry of a */
 	int *epos;            /* k * k per element pair: positions in ca->val */
-	double *wb, *wc, *wx; /* scratch: every block's slice (bstart), coarse
-	                         vector, n */
+	int *xoff, *xpos;     /* per variable (n + 1 offsets): its places in
+	                         vars (ascending), to sum the slices on threads */
+	double *wb, *wc;      /* scratch: every block's slice (bstart), coarse
+	                         vector */
 	int annz;
 	int ok;               /* every factor usable */
 	int nthr;             /* threads over the blocks (1: none) */
@@ -58,9 +60,10 @@ void pcschwarz_free(pcschwarz *s)
 	free(s->part);
 	free(s->bstart);
 	free(s->vars);
+	free(s->xoff);
+	free(s->xpos);
 	free(s->wb);
 	free(s->wc);
-	free(s->wx);
 	free(s);
 }
 
@@ -215,20 +218,115 @@ static int push(int **a, size_t *cap, size_t *len, int v)
 	return 0;
 }
 
+/* One pass over a's off-diagonal entries for the rows of adjacency():
+ * with aj NULL, count each row's neighbours into ap[i + 1]; else append
+ * them at aj[ap[i]++].  Each thread takes the rows of its range, read from
+ * all of a in column order, so every row's list is the same at any
+ * count. */
+static void adjacency_pass(const spsym *a, int nt, int *ap, int *aj)
+{
+	const int n = a->n;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+	{
+		int t = 0, tn = 1;
+#ifdef _OPENMP
+		t = omp_get_thread_num();
+		tn = omp_get_num_threads();
+#endif
+		int r0 = (int)((long)n * t / tn), r1 = (int)((long)n * (t + 1) / tn);
+		for (int j = 0; j < n; j++)
+			for (int p = a->colp[j]; p < a->colp[j + 1]; p++) {
+				int i = a->rowi[p];
+				if (i == j)
+					continue;
+				if (i >= r0 && i < r1) {
+					if (aj)
+						aj[ap[i]++] = j;
+					else
+						ap[i + 1]++;
+				}
+				if (j >= r0 && j < r1) {
+					if (aj)
+						aj[ap[j]++] = i;
+					else
+						ap[j + 1]++;
+				}
+			}
+	}
+}
+
+/* a's graph, both triangles, as CSR (ap, aj), on nt threads. */
+static int adjacency(const spsym *a, int nt, int **ap_out, int **aj_out)
+{
+	const int n = a->n;
+	int *ap = calloc((size_t)n + 1, sizeof *ap), *aj = NULL;
+	if (ap == NULL)
+		return -1;
+	adjacency_pass(a, nt, ap, NULL);
+	for (int i = 0; i < n; i++)
+		ap[i + 1] += ap[i];
+	if ((aj = malloc(((size_t)ap[n] + 1) * sizeof *aj)) == NULL) {
+		free(ap);
+		return -1;
+	}
+	adjacency_pass(a, nt, ap, aj);
+	for (int i = n; i > 0; i--)
+		ap[i] = ap[i - 1];
+	ap[0] = 0;
+	*ap_out = ap;
+	*aj_out = aj;
+	return 0;
+}
+
+/* Block b's variables: own[0..nown) and overlap layers of the graph
+ * (ap, aj) around them, ascending, into the fresh array *out (*len). */
+static int grow_block(int b, const int *own, int nown, int overlap, const int *ap,
+                      const int *aj, int *mark, int **out, size_t *len)
+{
+	size_t cap = 2 * (size_t)nown + 16, n = 0, layer = 0;
+	int *v = malloc(cap * sizeof *v);
+	if (v == NULL)
+		return -1;
+	for (int k = 0; k < nown; k++) {
+		v[n++] = own[k];
+		mark[own[k]] = b;
+	}
+	for (int l = 0; l < overlap; l++) {
+		size_t end = n;
+		for (size_t k = layer; k < end; k++)
+			for (int p = ap[v[k]]; p < ap[v[k] + 1]; p++) {
+				int j = aj[p];
+				if (mark[j] == b)
+					continue;
+				mark[j] = b;
+				if (push(&v, &cap, &n, j) != 0) {
+					free(v);
+					return -1;
+				}
+			}
+		layer = end;
+	}
+	qsort(v, n, sizeof *v, cmp_int);
+	*out = v;
+	*len = n;
+	return 0;
+}
+
 /* Each block's variables: its own (part) and overlap layers of a's graph
- * around them, ascending, into s->bstart/vars.  adj: a's graph, both
- * triangles, as CSR. */
+ * around them, ascending, into s->bstart/vars; the blocks on s->nthr
+ * threads (mark: n per thread), the same lists at any count. */
 static int grow_blocks(pcschwarz *s, const spsym *a, const int *part, int overlap, int *mark)
 {
-	const int n = a->n, nb = s->nblock;
-	int *ap = calloc((size_t)n + 1, sizeof *ap), *aj = NULL, *own = NULL, *ostart = NULL;
-	size_t cap = (size_t)n + 16, len = 0;
+	const int n = a->n, nb = s->nblock, nt = s->nthr;
+	int *ap = NULL, *aj = NULL, *own = NULL, *ostart = NULL, **bl = NULL;
+	size_t *bn = NULL;
 	int st = -1;
 	s->bstart = calloc((size_t)nb + 1, sizeof *s->bstart);
-	s->vars = malloc(cap * sizeof *s->vars);
 	ostart = calloc((size_t)nb + 1, sizeof *ostart);
 	own = malloc(((size_t)n + 1) * sizeof *own);
-	if (!ap || !s->bstart || !s->vars || !ostart || !own)
+	bl = calloc((size_t)nb, sizeof *bl);
+	bn = calloc((size_t)nb, sizeof *bn);
+	if (!s->bstart || !ostart || !own || !bl || !bn)
 		goto out;
 	for (int i = 0; i < n; i++)
 		ostart[part[i] + 1]++;
@@ -242,59 +340,43 @@ static int grow_blocks(pcschwarz *s, const spsym *a, const int *part, int overla
 	for (int b = nb; b > 0; b--)
 		ostart[b] = ostart[b - 1];
 	ostart[0] = 0;
-	if (overlap > 0) {
-		for (int j = 0; j < n; j++)
-			for (int p = a->colp[j]; p < a->colp[j + 1]; p++)
-				if (a->rowi[p] != j) {
-					ap[a->rowi[p] + 1]++;
-					ap[j + 1]++;
-				}
-		for (int i = 0; i < n; i++)
-			ap[i + 1] += ap[i];
-		aj = malloc(((size_t)ap[n] + 1) * sizeof *aj);
-		if (aj == NULL)
-			goto out;
-		for (int j = 0; j < n; j++)
-			for (int p = a->colp[j]; p < a->colp[j + 1]; p++)
-				if (a->rowi[p] != j) {
-					aj[ap[a->rowi[p]]++] = j;
-					aj[ap[j]++] = a->rowi[p];
-				}
-		for (int i = n; i > 0; i--)
-			ap[i] = ap[i - 1];
-		ap[0] = 0;
-	}
-	for (int i = 0; i < n; i++)
+	if (overlap > 0 && adjacency(a, nt, &ap, &aj) != 0)
+		goto out;
+	for (size_t i = 0; i < (size_t)n * nt; i++)
 		mark[i] = -1;
+	int bad = 0;
+#pragma omp parallel for num_threads(nt) schedule(dynamic, 1) if (nt > 1)
 	for (int b = 0; b < nb; b++) {
-		size_t first = len, layer = len;
-		for (int k = ostart[b]; k < ostart[b + 1]; k++) {
-			if (push(&s->vars, &cap, &len, own[k]) != 0)
-				goto out;
-			mark[own[k]] = b;
+		int t = 0;
+#ifdef _OPENMP
+		t = omp_get_thread_num();
+#endif
+		if (grow_block(b, own + ostart[b], ostart[b + 1] - ostart[b], overlap, ap, aj,
+		               mark + (size_t)t * n, bl + b, bn + b) != 0) {
+#pragma omp atomic write
+			bad = 1;
 		}
-		for (int l = 0; l < overlap; l++) {
-			size_t end = len;
-			for (size_t k = layer; k < end; k++) {
-				int i = s->vars[k];
-				for (int p = ap[i]; p < ap[i + 1]; p++) {
-					int j = aj[p];
-					if (mark[j] == b)
-						continue;
-					mark[j] = b;
-					if (push(&s->vars, &cap, &len, j) != 0)
-						goto out;
-				}
-			}
-			layer = end;
-		}
-		qsort(s->vars + first, len - first, sizeof *s->vars, cmp_int);
+	}
+	if (bad)
+		goto out;
+	size_t len = 0;
+	for (int b = 0; b < nb; b++) {
+		len += bn[b];
 		if (len > (size_t)1 << 31)
 			goto out;
 		s->bstart[b + 1] = (int)len;
 	}
+	if ((s->vars = malloc((len + 1) * sizeof *s->vars)) == NULL)
+		goto out;
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+	for (int b = 0; b < nb; b++)
+		memcpy(s->vars + s->bstart[b], bl[b], bn[b] * sizeof *s->vars);
 	st = 0;
 out:
+	for (int b = 0; bl && b < nb; b++)
+		free(bl[b]);
+	free(bl);
+	free(bn);
 	free(ap);
 	free(aj);
 	free(own);
@@ -331,8 +413,7 @@ pcschwarz *pcschwarz_alloc_threads(const spsym *a, const int *part, int nblock, 
 	s->ba = calloc((size_t)nblock, sizeof *s->ba);
 	s->bc = calloc((size_t)nblock, sizeof *s->bc);
 	s->src = calloc((size_t)nblock, sizeof *s->src);
-	/* grow_blocks needs one mark; the blocks' setup one loc, mark and ij
-	 * per thread */
+	/* one loc, mark and ij per thread */
 	const int nt = s->nthr;
 	int *loc = malloc(((size_t)n * nt + 1) * sizeof *loc), *ij = NULL;
 	int *mark = malloc(((size_t)n * nt + 1) * sizeof *mark);
@@ -354,35 +435,48 @@ pcschwarz *pcschwarz_alloc_threads(const spsym *a, const int *part, int nblock, 
 			e += a->colp[s->vars[k] + 1] - a->colp[s->vars[k]];
 		most = e > most ? e : most;
 	}
-	/* every block solves into its own slice (on any thread) */
-	s->wb = malloc(((size_t)s->bstart[nblock] + 1) * sizeof *s->wb);
-	s->wx = malloc(((size_t)n + 1) * sizeof *s->wx);
+	/* every block solves into its own slice (on any thread), and each
+	 * variable's sum gathers its places in the slices in one order */
+	size_t nvars = (size_t)s->bstart[nblock];
+	s->wb = malloc((nvars + 1) * sizeof *s->wb);
+	s->xoff = calloc((size_t)n + 1, sizeof *s->xoff);
+	s->xpos = malloc((nvars + 1) * sizeof *s->xpos);
 	ij = malloc((2 * most + 2) * nt * sizeof *ij);
-	if (s->wb == NULL || s->wx == NULL || ij == NULL)
+	if (s->wb == NULL || s->xoff == NULL || s->xpos == NULL || ij == NULL)
 		goto fail;
+	for (size_t p = 0; p < nvars; p++)
+		s->xoff[s->vars[p] + 1]++;
+	for (int i = 0; i < n; i++)
+		s->xoff[i + 1] += s->xoff[i];
+	for (size_t p = 0; p < nvars; p++)
+		s->xpos[s->xoff[s->vars[p]]++] = (int)p;
+	for (int i = n; i > 0; i--)
+		s->xoff[i] = s->xoff[i - 1];
+	s->xoff[0] = 0;
 	for (size_t i = 0; i < (size_t)n * nt; i++)
 		mark[i] = -1;
 	/* the blocks are independent: each thread its own scratch, the same
-	 * analysis of each block whichever thread does it */
-	int bad = 0;
+	 * analysis of each block whichever thread does it; the coarse level
+	 * (item nblock, first out) beside them */
+	int bad = 0, nitem = nblock + (co != NULL);
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 1) if (nt > 1)
-	for (int b = 0; b < nblock; b++) {
-		int t = 0;
+	for (int q = 0; q < nitem; q++) {
+		int t = 0, b = q == 0 && co ? nblock : q - (co != NULL);
 #ifdef _OPENMP
 		t = omp_get_thread_num();
 #endif
 		int fail;
 #pragma omp atomic read
 		fail = bad;
-		if (!fail && block_setup(s, a, b, loc + (size_t)t * n, mark + (size_t)t * n,
-		                         ij + (2 * most + 2) * t) != 0) {
+		if (!fail && (b == nblock ? coarse_setup(s, a, co)
+		                          : block_setup(s, a, b, loc + (size_t)t * n,
+		                                        mark + (size_t)t * n,
+		                                        ij + (2 * most + 2) * t)) != 0) {
 #pragma omp atomic write
 			bad = 1;
 		}
 	}
 	if (bad)
-		goto fail;
-	if (co && coarse_setup(s, a, co) != 0)
 		goto fail;
 	free(loc);
 	free(mark);
@@ -404,17 +498,52 @@ double pcschwarz_bytes(const pcschwarz *s)
 	return t;
 }
 
+/* A_0 = P^T (A + shift I) P into s->ca and its factor. */
+static int coarse_factor(pcschwarz *s, const spsym *a, double shift)
+{
+	/* from the lower triangle of A: an entry off A's diagonal stands for
+	 * itself and its mirror, so it adds to both (u, v) and (v, u) of the
+	 * lower A_0 (twice to a diagonal one); a diagonal entry once per
+	 * unordered pair */
+	const int k = s->k;
+	spsym_zero(s->ca);
+	for (int j = 0; j < a->n; j++)
+		for (int p = a->colp[j]; p < a->colp[j + 1]; p++) {
+			int i = a->rowi[p];
+			double v = a->val[p] + (i == j ? shift : 0);
+			const int *ni = s->node + (size_t)s->elem[i] * k;
+			const int *nj = s->node + (size_t)s->elem[j] * k;
+			const double *wi = s->w + (size_t)i * k, *wj = s->w + (size_t)j * k;
+			const int *pos = s->epos + (size_t)s->epair[p] * k * k;
+			for (int u = 0; u < k; u++)
+				for (int t = 0; t < k; t++) {
+					double c = wi[u] * wj[t] * v;
+					if (i == j ? ni[u] < nj[t] : ni[u] == nj[t])
+						c = i == j ? 0 : 2 * c;
+					s->ca->val[pos[u * k + t]] += c;
+				}
+		}
+	return spchol_factor(s->cc, s->ca, 0);
+}
+
 int pcschwarz_factor(pcschwarz *s, const spsym *a, double shift)
 {
 	s->ok = 0;
 	if (a->n != s->n || a->nnz != s->annz || !isfinite(shift))
 		return MESH_EDOM;
 	/* the blocks on threads, each factor its own: the same numbers; a
-	 * failure ends the try (the lowest failing block's status) */
-	int st = MESH_OK, stb = s->nblock;
+	 * failure ends the try (the lowest failing block's status, before
+	 * the coarse level's); the coarse level (item nblock, first out)
+	 * beside them */
+	const int nb = s->nblock, nitem = nb + (s->ca != NULL);
+	int st = MESH_OK, stb = nb, stc = MESH_OK;
 #pragma omp parallel for num_threads(s->nthr) schedule(dynamic, 1) if (s->nthr > 1)
-	for (int b = 0; b < s->nblock; b++) {
-		int first;
+	for (int q = 0; q < nitem; q++) {
+		int b = q == 0 && s->ca ? nb : q - (s->ca != NULL), first;
+		if (b == nb) {
+			stc = coarse_factor(s, a, shift);
+			continue;
+		}
 #pragma omp atomic read
 		first = stb;
 		if (first < b)
@@ -434,33 +563,8 @@ int pcschwarz_factor(pcschwarz *s, const spsym *a, double shift)
 	}
 	if (st != MESH_OK)
 		return st;
-	if (s->ca) {
-		/* A_0 = P^T (A + shift I) P from the lower triangle of A: an
-		 * entry off A's diagonal stands for itself and its mirror, so
-		 * it adds to both (u, v) and (v, u) of the lower A_0 (twice to
-		 * a diagonal one); a diagonal entry once per unordered pair */
-		const int k = s->k;
-		spsym_zero(s->ca);
-		for (int j = 0; j < a->n; j++)
-			for (int p = a->colp[j]; p < a->colp[j + 1]; p++) {
-				int i = a->rowi[p];
-				double v = a->val[p] + (i == j ? shift : 0);
-				const int *ni = s->node + (size_t)s->elem[i] * k;
-				const int *nj = s->node + (size_t)s->elem[j] * k;
-				const double *wi = s->w + (size_t)i * k, *wj = s->w + (size_t)j * k;
-				const int *pos = s->epos + (size_t)s->epair[p] * k * k;
-				for (int u = 0; u < k; u++)
-					for (int t = 0; t < k; t++) {
-						double c = wi[u] * wj[t] * v;
-						if (i == j ? ni[u] < nj[t] : ni[u] == nj[t])
-							c = i == j ? 0 : 2 * c;
-						s->ca->val[pos[u * k + t]] += c;
-					}
-			}
-		int st = spchol_factor(s->cc, s->ca, 0);
-		if (st != MESH_OK)
-			return st;
-	}
+	if (stc != MESH_OK)
+		return stc;
 	s->ok = 1;
 	return MESH_OK;
 }
@@ -475,51 +579,65 @@ int pcschwarz_precond(pcschwarz *s, const spsym *a, double *shift)
 	return spsym_precond_ladder(factor_fn, s, a, shift);
 }
 
+/* w = P^T b, the coarse level's right-hand side, and its solve. */
+static int coarse_solve(pcschwarz *s, const double *b)
+{
+	const int k = s->k;
+	memset(s->wc, 0, (size_t)s->ca->n * sizeof *s->wc);
+	for (int i = 0; i < s->n; i++)
+		for (int u = 0; u < k; u++)
+			s->wc[s->node[(size_t)s->elem[i] * k + u]] += s->w[(size_t)i * k + u] * b[i];
+	return spchol_solve_status(s->cc, s->wc, s->wc);
+}
+
 int pcschwarz_solve(pcschwarz *s, const double *b, double *x)
 {
 	if (!s->ok)
 		return MESH_EDOM;
-	if (s->ca) {
-		const int k = s->k;
-		memset(s->wc, 0, (size_t)s->ca->n * sizeof *s->wc);
-		for (int i = 0; i < s->n; i++)
-			for (int u = 0; u < k; u++)
-				s->wc[s->node[(size_t)s->elem[i] * k + u]] += s->w[(size_t)i * k + u] * b[i];
-		int st = spchol_solve_status(s->cc, s->wc, s->wc);
-		if (st != MESH_OK)
-			return st;
-	}
-	/* blocks overlap: sum into wx, since x may alias b */
-	memset(s->wx, 0, (size_t)s->n * sizeof *s->wx);
-	/* the blocks' solves on threads, each into its slice, then the sums
-	 * in one order whatever the threads: the same bits; a failure
-	 * reports the lowest failing block's status */
-	int stb = s->nblock, stv = MESH_OK;
-#pragma omp parallel for num_threads(s->nthr) schedule(dynamic, 1) if (s->nthr > 1)
-	for (int k = 0; k < s->nblock; k++) {
-		const int *v = s->vars + s->bstart[k];
-		int nb = s->bstart[k + 1] - s->bstart[k];
-		double *wk = s->wb + s->bstart[k];
-		for (int i = 0; i < nb; i++)
-			wk[i] = b[v[i]];
-		int st = spchol_solve_status(s->bc[k], wk, wk);
-		if (st != MESH_OK) {
+	/* the blocks' solves on threads, each into its slice, and the coarse
+	 * solve (item nblock, first out) beside them; then every variable
+	 * sums its places in one order whatever the threads: the same bits
+	 * (x may alias b: nothing is written to x before).  A failure
+	 * reports the lowest failing block's status, else the coarse one's. */
+	const int nb = s->nblock, nitem = nb + (s->ca != NULL);
+	int stb = nb, stv = MESH_OK, stc = MESH_OK;
+#pragma omp parallel num_threads(s->nthr) if (s->nthr > 1)
+	{
+#pragma omp for schedule(dynamic, 1)
+		for (int q = 0; q < nitem; q++) {
+			int k = q == 0 && s->ca ? nb : q - (s->ca != NULL);
+			if (k == nb) {
+				stc = coarse_solve(s, b);
+				continue;
+			}
+			const int *v = s->vars + s->bstart[k];
+			int n = s->bstart[k + 1] - s->bstart[k];
+			double *wk = s->wb + s->bstart[k];
+			for (int i = 0; i < n; i++)
+				wk[i] = b[v[i]];
+			int st = spchol_solve_status(s->bc[k], wk, wk);
+			if (st != MESH_OK) {
 #pragma omp critical(pcschwarz_solve_fail)
-			if (k < stb) {
-				stb = k;
-				stv = st;
+				if (k < stb) {
+					stb = k;
+					stv = st;
+				}
+			}
+		}
+		if (stb == nb && stc == MESH_OK) {
+#pragma omp for schedule(static)
+			for (int i = 0; i < s->n; i++) {
+				double c = 0, y = 0;
+				for (int u = 0; s->ca && u < s->k; u++)
+					c += s->w[(size_t)i * s->k + u] *
+					     s->wc[s->node[(size_t)s->elem[i] * s->k + u]];
+				for (int p = s->xoff[i]; p < s->xoff[i + 1]; p++)
+					y += s->wb[s->xpos[p]];
+				x[i] = y + c;
 			}
 		}
 	}
-	if (stb < s->nblock)
+	if (stb < nb)
 		return stv;
-	for (int p = 0; p < s->bstart[s->nblock]; p++)
-		s->wx[s->vars[p]] += s->wb[p];
-	for (int i = 0; i < s->n; i++) {
-		double c = 0;
-		for (int u = 0; s->ca && u < s->k; u++)
-			c += s->w[(size_t)i * s->k + u] * s->wc[s->node[(size_t)s->elem[i] * s->k + u]];
-		x[i] = s->wx[i] + c;
-	}
-	return MESH_OK;
+	return stc;
 }
