@@ -29,7 +29,7 @@ static mesh *read_str(const char *s, long *line, int *st, mesh_error *err)
 
 int main(void)
 {
-	tap_plan(25);
+	tap_plan(27);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 4, &m, &err);
@@ -251,6 +251,30 @@ int main(void)
 	ok(ntry == 600 && agree == ntry && nbad > 100 && nbad < 500,
 	   "mesh_write_check: the verdict of a wrapped copy's mesh_build on %d of %d meshes (%d invalid)",
 	   agree, ntry, nbad);
+
+	/* the lines formatted on threads, in chunks of 4096, written in order:
+	 * a tissue of 3 x 4096 + 5 vertices and cells of mixed widths */
+	{
+		mesh *big = NULL;
+		ok(lattice_honeycomb(90, 68, &big, &err) == MESH_OK && big->nv == 12240 &&
+		   (big->r[7] = -1e-300, big->r[8] = 1.0 / 3, 1),
+		   "a 12240-vertex honeycomb");
+		size_t l1, l3, l7;
+		char *w1 = write_str(big, &l1);
+		char *w3 = NULL, *w7 = NULL;
+		FILE *f = open_memstream(&w3, &l3);
+		int s3 = mesh_write_threads(f, big, 3);
+		fclose(f);
+		f = open_memstream(&w7, &l7);
+		int s7 = mesh_write_threads(f, big, 7);
+		fclose(f);
+		ok(s3 == MESH_OK && s7 == MESH_OK && l1 == l3 && l1 == l7 && memcmp(w1, w3, l1) == 0 &&
+		   memcmp(w1, w7, l1) == 0, "mesh_write_threads on 3 and 7 threads: mesh_write's bytes");
+		free(w1);
+		free(w3);
+		free(w7);
+		mesh_free(big);
+	}
 
 	ok(lattice_honeycomb(3, 3, &h, &err) == MESH_EDOM, "odd ny refused");
 	ok(lattice_honeycomb(1, 2, &h, &err) == MESH_EDOM, "nx = 1 refused");

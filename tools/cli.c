@@ -352,7 +352,11 @@ void cli_write_mesh(const mesh *m)
 	if (st != MESH_OK)
 		cli_die(EXIT_NOCONV, "the result is not a valid mesh (%s): not written", err.msg);
 	errno = 0;
-	if (mesh_write(stdout, m) != MESH_OK || fflush(stdout) != 0)
+	/* on the threads cli_threads_apply gave the library */
+	st = mesh_write_threads(stdout, m, omp_get_max_threads());
+	if (st == MESH_ENOMEM)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (st != MESH_OK || fflush(stdout) != 0)
 		cli_write_error("stdout");
 }
 

@@ -1038,7 +1038,67 @@ int mesh_write_check(const mesh *m, mesh_error *err)
 	return MESH_OK;
 }
 
+/* Room for one vertex line: two %.17g numbers (at most 24 characters,
+ * -1.2345678901234567e-308), a space and a newline. */
+#define VLINE_MAX 56
+
+/* Vertices v0 <= v < v1 as lines into buf; returns the bytes. */
+static size_t vertex_lines(const mesh *m, int v0, int v1, char *buf)
+{
+	size_t n = 0;
+	for (int v = v0; v < v1; v++)
+		n += (size_t)sprintf(buf + n, "%.17g %.17g\n", wrap1(m->r[2 * v], m->lx) + 0.0,
+		                     wrap1(m->r[2 * v + 1], m->ly) + 0.0);
+	return n;
+}
+
+/* Cells k0 <= k < k1 as lines into buf; returns the bytes. */
+static size_t cell_lines(const mesh *m, int k0, int k1, char *buf)
+{
+	size_t n = 0;
+	for (int k = k0; k < k1; k++) {
+		n += (size_t)sprintf(buf + n, "%d", m->coff[k + 1] - m->coff[k]);
+		for (int i = m->coff[k]; i < m->coff[k + 1]; i++)
+			n += (size_t)sprintf(buf + n, " %d", m->cv[i]);
+		buf[n++] = '\n';
+	}
+	return n;
+}
+
+/* Lines 0 <= i < count (at most most bytes each) made by fn in chunks,
+ * up to threads chunks at once, and written in order: the same bytes at
+ * any count.  Without memory for the chunks, one line at a time.
+ * MESH_OK, MESH_ENOMEM. */
+static int write_lines(FILE *f, const mesh *m, int count, size_t most,
+                       size_t (*fn)(const mesh *, int, int, char *), int threads)
+{
+	int chunk = 4096, nt = threads > 1 && count > chunk ? (threads < 64 ? threads : 64) : 1;
+	char *buf = malloc((size_t)nt * chunk * most);
+	if (buf == NULL) {
+		nt = chunk = 1;
+		if ((buf = malloc(most)) == NULL)
+			return MESH_ENOMEM;
+	}
+	size_t len[64];
+	for (int i0 = 0; i0 < count; i0 += nt * chunk) {
+#pragma omp parallel for num_threads(nt) schedule(static) if (nt > 1)
+		for (int c = 0; c < nt; c++) {
+			int a = i0 + c * chunk, b = count - a > chunk ? a + chunk : count;
+			len[c] = a < b ? fn(m, a, b, buf + (size_t)c * chunk * most) : 0;
+		}
+		for (int c = 0; c < nt; c++)
+			fwrite(buf + (size_t)c * chunk * most, 1, len[c], f);
+	}
+	free(buf);
+	return MESH_OK;
+}
+
 int mesh_write(FILE *f, const mesh *m)
+{
+	return mesh_write_threads(f, m, 1);
+}
+
+int mesh_write_threads(FILE *f, const mesh *m, int threads)
 {
 	fputs("tismesh 1\nbox ", f);
 	put_num(f, m->lx);
@@ -1058,16 +1118,15 @@ int mesh_write(FILE *f, const mesh *m)
 	/* Coordinates rarely have a short exact form, and the shortest-form
 	 * search costs three conversions each: plain %.17g is exact and fast.
 	 * + 0.0 turns -0 into 0. */
-	for (int v = 0; v < m->nv; v++)
-		fprintf(f, "%.17g %.17g\n", wrap1(m->r[2 * v], m->lx) + 0.0,
-			wrap1(m->r[2 * v + 1], m->ly) + 0.0);
+	if (write_lines(f, m, m->nv, VLINE_MAX, vertex_lines, threads) != MESH_OK)
+		return MESH_ENOMEM;
 	fprintf(f, "cells %d\n", m->nc);
-	for (int k = 0; k < m->nc; k++) {
-		fprintf(f, "%d", m->coff[k + 1] - m->coff[k]);
-		for (int i = m->coff[k]; i < m->coff[k + 1]; i++)
-			fprintf(f, " %d", m->cv[i]);
-		fputc('\n', f);
-	}
+	int nmax = 0;
+	for (int k = 0; k < m->nc; k++)
+		if (m->coff[k + 1] - m->coff[k] > nmax)
+			nmax = m->coff[k + 1] - m->coff[k];
+	if (write_lines(f, m, m->nc, 12 * ((size_t)nmax + 1) + 1, cell_lines, threads) != MESH_OK)
+		return MESH_ENOMEM;
 	if (m->dg) {
 		int n = 0;
 		for (int j = 0; j < m->nj; j++)

@@ -123,8 +123,13 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err);
 int mesh_read(FILE *f, long *line, mesh **out, mesh_error *err);
 
 /* Write m in tismesh 1 format, coordinates wrapped into the box, numbers with
- * %.17g so they read back exactly.  MESH_EIO on a write error. */
+ * %.17g so they read back exactly.  MESH_EIO on a write error, MESH_ENOMEM
+ * (no room to format a line; the output then ends early). */
 int mesh_write(FILE *f, const mesh *m);
+/* The same, the vertex and cell lines formatted on up to threads threads
+ * (a large mesh's numbers cost more than their writing): the same bytes
+ * at any count. */
+int mesh_write_threads(FILE *f, const mesh *m, int threads);
 /* MESH_OK when m as mesh_write puts it out (coordinates wrapped) passes
  * the reader's rules, MESH_EINVAL with the reader's message otherwise:
  * so that a program never writes a mesh it would reject.  On a built mesh

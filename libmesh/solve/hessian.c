@@ -155,10 +155,23 @@ void mesh_hessvec(const mesh *m, const double *r, const model *p,
 void mesh_hessvec_prepare(const mesh *m, const double *r, const model *p,
                           hessian_ws *w)
 {
+	if (w->nthr > 1 && m->nv >= w->par_nv) {
+		/* the lists (from the topology) beside the geometry: two
+		 * serial jobs at once */
+#pragma omp parallel sections num_threads(2)
+		{
+#pragma omp section
+			{
+				mesh_junction_vectors(m, r, w->jd);
+				mesh_cell_factors(m, r, p, w->jd, w->cc);
+			}
+#pragma omp section
+			gather_lists(m, w);
+		}
+		return;
+	}
 	mesh_junction_vectors(m, r, w->jd);
 	mesh_cell_factors(m, r, p, w->jd, w->cc);
-	if (w->nthr > 1 && m->nv >= w->par_nv)
-		gather_lists(m, w);
 }
 
 /* Junction j's terms of the product (both forms, the same expressions):
