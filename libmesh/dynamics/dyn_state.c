@@ -71,15 +71,18 @@ int dyn_state_save(const dyn *d)
 	sb_printf(&b, "%a %ld %ld %ld %ld %a %ld %a %a %d", d->c.t, d->c.nstep, d->c.nt1,
 	          d->c.nt1_refused, d->c.nsettle, d->c.t_settled, d->nt1_sorted, d->ou_acc,
 	          d->fsettle, d->have_lprev);
-	if (d->o.implicit > 0 || d->impl || d->o.quench == DYN_QUENCH_ADAPTIVE)
+	/* Optional groups, each only when it or a later one has something to
+	 * say (the reader takes them by position): the text of a run that
+	 * uses none stays as it was.  The implicit steps', the adaptive
+	 * quench's counts, settle_t1's jumps. */
+	const int jumps = d->c.nsettle_t1 > 0;
+	const int qcounts = d->o.quench == DYN_QUENCH_ADAPTIVE || jumps;
+	if (d->o.implicit > 0 || d->impl || qcounts)
 		sb_printf(&b, " %d %a %ld %ld %ld %ld %a", d->impl, d->h, d->c.nimpl, d->c.nsolve,
 		          d->c.nevent, d->c.nimpl_fail, d->c.t_implicit);
-	/* the adaptive quench's own counts, only then: the text of the other
-	 * schemes stays as it was */
-	if (d->o.quench == DYN_QUENCH_ADAPTIVE)
+	if (qcounts)
 		sb_printf(&b, " %ld %ld", d->c.nevent_expl, d->c.nswitch);
-	/* and settle_t1's jumps, only when there were some */
-	if (d->o.quench == DYN_QUENCH_ADAPTIVE && d->c.nsettle_t1 > 0)
+	if (jumps)
 		sb_printf(&b, " %ld", d->c.nsettle_t1);
 	if ((st = sb_set(m, "dyn_run", &b)) != MESH_OK)
 		return st;
