@@ -2,6 +2,7 @@
  * sparse.c: see precond.h. */
 #include "precond.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -67,6 +68,30 @@ void pcschwarz_free(pcschwarz *s)
 	free(s);
 }
 
+/* Indices 0 <= i < n grouped by key[i] in [0, nkey): group g holds
+ * idx[off[g] .. off[g + 1]) ascending (a counting sort; off zeroed, nkey +
+ * 1 entries). */
+static void group_by(int n, const int *key, int nkey, int *off, int *idx)
+{
+	for (int i = 0; i < n; i++)
+		off[key[i] + 1]++;
+	for (int g = 0; g < nkey; g++)
+		off[g + 1] += off[g];
+	for (int i = 0; i < n; i++)
+		idx[off[key[i]]++] = i;
+	for (int g = nkey; g > 0; g--)
+		off[g] = off[g - 1];
+	off[0] = 0;
+}
+
+/* Work item q of a loop over the blocks with the coarse level beside them
+ * (coarse: there is one): the coarse level (nblock) first, as the longest
+ * item, then the blocks. */
+static int item(int q, int nblock, int coarse)
+{
+	return !coarse ? q : q == 0 ? nblock : q - 1;
+}
+
 /* Block b's pattern (the entries of a with both ends in b, in local
  * numbers), its factor's analysis and its map into a.  loc: local number
  * of each variable of b (valid where mark == b); ij: scratch for 2 *
@@ -117,18 +142,10 @@ static int coarse_setup(pcschwarz *s, const spsym *a, const pccoarse *co)
 	s->epair = malloc(((size_t)a->nnz + 1) * sizeof *s->epair);
 	if (!es || !ev || !mark || !slot || !pr || !s->epair)
 		goto out;
-	for (int i = 0; i < n; i++) {
+	for (int i = 0; i < n; i++)
 		if (co->elem[i] < 0 || co->elem[i] >= ne)
 			goto out;
-		es[co->elem[i] + 1]++;
-	}
-	for (int e = 0; e < ne; e++)
-		es[e + 1] += es[e];
-	for (int i = 0; i < n; i++)
-		ev[es[co->elem[i]]++] = i;
-	for (int e = ne; e > 0; e--)
-		es[e] = es[e - 1];
-	es[0] = 0;
+	group_by(n, co->elem, ne, es, ev);
 	for (int e = 0; e < ne; e++) {
 		mark[e] = -1;
 		for (int q = 0; q < k; q++)
@@ -328,18 +345,10 @@ static int grow_blocks(pcschwarz *s, const spsym *a, const int *part, int overla
 	bn = calloc((size_t)nb, sizeof *bn);
 	if (!s->bstart || !ostart || !own || !bl || !bn)
 		goto out;
-	for (int i = 0; i < n; i++)
-		ostart[part[i] + 1]++;
-	for (int b = 0; b < nb; b++) {
-		if (ostart[b + 1] == 0)
+	group_by(n, part, nb, ostart, own);
+	for (int b = 0; b < nb; b++)
+		if (ostart[b + 1] == ostart[b])
 			goto out;  /* an empty block */
-		ostart[b + 1] += ostart[b];
-	}
-	for (int i = 0; i < n; i++)
-		own[ostart[part[i]]++] = i;
-	for (int b = nb; b > 0; b--)
-		ostart[b] = ostart[b - 1];
-	ostart[0] = 0;
 	if (overlap > 0 && adjacency(a, nt, &ap, &aj) != 0)
 		goto out;
 	for (size_t i = 0; i < (size_t)n * nt; i++)
@@ -362,7 +371,7 @@ static int grow_blocks(pcschwarz *s, const spsym *a, const int *part, int overla
 	size_t len = 0;
 	for (int b = 0; b < nb; b++) {
 		len += bn[b];
-		if (len > (size_t)1 << 31)
+		if (len > (size_t)INT_MAX)
 			goto out;
 		s->bstart[b + 1] = (int)len;
 	}
@@ -444,15 +453,7 @@ pcschwarz *pcschwarz_alloc_threads(const spsym *a, const int *part, int nblock, 
 	ij = malloc((2 * most + 2) * nt * sizeof *ij);
 	if (s->wb == NULL || s->xoff == NULL || s->xpos == NULL || ij == NULL)
 		goto fail;
-	for (size_t p = 0; p < nvars; p++)
-		s->xoff[s->vars[p] + 1]++;
-	for (int i = 0; i < n; i++)
-		s->xoff[i + 1] += s->xoff[i];
-	for (size_t p = 0; p < nvars; p++)
-		s->xpos[s->xoff[s->vars[p]]++] = (int)p;
-	for (int i = n; i > 0; i--)
-		s->xoff[i] = s->xoff[i - 1];
-	s->xoff[0] = 0;
+	group_by((int)nvars, s->vars, n, s->xoff, s->xpos);
 	for (size_t i = 0; i < (size_t)n * nt; i++)
 		mark[i] = -1;
 	/* the blocks are independent: each thread its own scratch, the same
@@ -461,7 +462,7 @@ pcschwarz *pcschwarz_alloc_threads(const spsym *a, const int *part, int nblock, 
 	int bad = 0, nitem = nblock + (co != NULL);
 #pragma omp parallel for num_threads(nt) schedule(dynamic, 1) if (nt > 1)
 	for (int q = 0; q < nitem; q++) {
-		int t = 0, b = q == 0 && co ? nblock : q - (co != NULL);
+		int t = 0, b = item(q, nblock, co != NULL);
 #ifdef _OPENMP
 		t = omp_get_thread_num();
 #endif
@@ -539,7 +540,7 @@ int pcschwarz_factor(pcschwarz *s, const spsym *a, double shift)
 	int st = MESH_OK, stb = nb, stc = MESH_OK;
 #pragma omp parallel for num_threads(s->nthr) schedule(dynamic, 1) if (s->nthr > 1)
 	for (int q = 0; q < nitem; q++) {
-		int b = q == 0 && s->ca ? nb : q - (s->ca != NULL), first;
+		int b = item(q, nb, s->ca != NULL), first;
 		if (b == nb) {
 			stc = coarse_factor(s, a, shift);
 			continue;
@@ -605,7 +606,7 @@ int pcschwarz_solve(pcschwarz *s, const double *b, double *x)
 	{
 #pragma omp for schedule(dynamic, 1)
 		for (int q = 0; q < nitem; q++) {
-			int k = q == 0 && s->ca ? nb : q - (s->ca != NULL);
+			int k = item(q, nb, s->ca != NULL);
 			if (k == nb) {
 				stc = coarse_solve(s, b);
 				continue;
