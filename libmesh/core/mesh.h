@@ -1,4 +1,4 @@
-/* mesh.h - the tissue mesh: data, the tismesh 1 format, validation.
+/* mesh.h - the tissue mesh: its data, derived tables and validation.
  *
  * A mesh is a periodic planar tiling of polygonal cells.  The primary data
  * are the box, the vertex coordinates and the cells (counter-clockwise
@@ -16,6 +16,15 @@
 #include <stdio.h>
 
 #include "status.h"
+
+/* The rest of the mesh's interface is in headers of its own, beside the
+ * files that implement it: the packed codes of the energy kernel
+ * (mesh_codes.h), the tismesh 1 reader and writer (mesh_io.h), and what a
+ * mesh carries beyond its tissue: parameters, run state, history
+ * (mesh_run.h).  A program that includes mesh.h sees all of it. */
+#include "mesh_codes.h"
+#include "mesh_io.h"
+#include "mesh_run.h"
 
 typedef struct {
 	char name[32];
@@ -117,48 +126,6 @@ int mesh_from_cells(double lx, double ly, int nv, const double *r, int nc,
  * input line of each cell for error messages. */
 int mesh_build(mesh *m, const long *cell_line, mesh_error *err);
 
-/* Read the next mesh of a tismesh 1 stream.  *line counts input lines across
- * calls (start it at 0).  Returns MESH_OK, MESH_EOF at a clean end of the
- * stream, or an error code with err filled in. */
-int mesh_read(FILE *f, long *line, mesh **out, mesh_error *err);
-
-/* Write m in tismesh 1 format, coordinates wrapped into the box, numbers with
- * %.17g so they read back exactly.  MESH_EIO on a write error, MESH_ENOMEM
- * (no room to format a line; the output then ends early). */
-int mesh_write(FILE *f, const mesh *m);
-/* The same, the vertex and cell lines formatted on up to threads threads
- * (a large mesh's numbers cost more than their writing): the same bytes
- * at any count. */
-int mesh_write_threads(FILE *f, const mesh *m, int threads);
-/* MESH_OK when m as mesh_write puts it out (coordinates wrapped) passes
- * the reader's rules, MESH_EINVAL with the reader's message otherwise:
- * so that a program never writes a mesh it would reject.  On a built mesh
- * (mesh_build since its last change of topology) it checks the geometry
- * and tensions in place, with no copy (the check of a 10^6-cell mesh
- * used to double the peak memory of its writer: bench/RESULTS.md); on
- * another it builds a wrapped copy. */
-int mesh_write_check(const mesh *m, mesh_error *err);
-
-/* The packed vertex ids and image codes (kcv, kjv) hold vertex ids below
- * 2^MESH_KSHIFT. */
-#define MESH_KSHIFT 26
-#define MESH_KMASK ((1u << MESH_KSHIFT) - 1)
-enum { MESH_KFIRST_A = 1, MESH_KFIRST_B = 2, MESH_KLAST_A = 4, MESH_KLAST_B = 8 };
-
-/* Derive kcv, kjv, kjo, kco, kjc and kimg from cv, jv, jc, cimg and jimg
- * (mesh_build, mesh_wrap, mesh_t1 and mesh_order_spatial do): code that
- * changes those arrays directly calls it afterwards.  When the ids or the offsets do not
- * fit (2^MESH_KSHIFT vertices, 8 distinct offsets per axis) or memory is
- * short, kok is 0 and the kernel reads the arrays themselves. */
-void mesh_kernel_build(mesh *m);
-
-/* The same for corners c0 <= i < c1 and the n junctions js[0..n) only,
- * after a local change (a T1), where every vertex that a junction in js
- * gained or lost has all its junctions in js, and every junction whose
- * cells (jc) changed is in js; kok becomes 0 if a new
- * offset does not fit. */
-void mesh_kernel_update(mesh *m, int c0, int c1, const int *js, int n);
-
 /* Move every vertex into [0,lx) x [0,ly) and recompute the image offsets. */
 void mesh_wrap(mesh *m);
 
@@ -185,49 +152,5 @@ void mesh_jindex_free(mesh_jindex *x);
 
 /* Give the mesh a tension array (zeros) if it has none.  MESH_ENOMEM. */
 int mesh_tension_alloc(mesh *m);
-
-/* Parameters: get returns 1 and sets *v if present, else 0. */
-int mesh_param_get(const mesh *m, const char *name, double *v);
-int mesh_param_set(mesh *m, const char *name, double v);
-
-/* Run state lines: get returns the text of NAME or NULL; set adds or
- * replaces it (names as for parameters, text one line without NUL;
- * MESH_EDOM for a bad name, MESH_ENOMEM); clear removes every state line
- * (a finished run leaves none, so the mesh reads as a fresh start). */
-const char *mesh_state_get(const mesh *m, const char *name);
-int mesh_state_set(mesh *m, const char *name, const char *text);
-void mesh_state_clear(mesh *m);
-/* Remove the state line NAME, if there is one. */
-void mesh_state_del(mesh *m, const char *name);
-
-/* The one way a run is continued (tis(7), "Continuing a stopped run"): a
- * run that stops leaves its own state lines and the mark "state run
- * PROGRAM KEY", KEY the options that shape the run as "name value" pairs
- * (one token each); a run that finishes leaves no state lines.  A run
- * given a marked mesh continues it only with the same program and KEY,
- * and then from the state alone: nothing of a start (a perturbation, a
- * seed's first draw) is applied again.
- * mesh_run_check: *continued = 1 when m carries the mark of program with
- * key, 0 when it carries no mark; MESH_EINVAL, naming what differs, when
- * it carries the mark of another program or of other options.
- * mesh_run_mark: set the mark (MESH_EDOM for a key with a line break or
- * nothing in it, MESH_ENOMEM). */
-int mesh_run_check(const mesh *m, const char *program, const char *key, int *continued,
-                   mesh_error *err);
-int mesh_run_mark(mesh *m, const char *program, const char *key);
-/* Build a key: append the pair "name text" (text one token), or "name
- * v" with v as the shortest text that reads back to it exactly, to the
- * string key (size n; key[0] = '\0' to start). */
-void mesh_run_key(char *key, size_t n, const char *name, const char *text);
-void mesh_run_key_num(char *key, size_t n, const char *name, double v);
-
-/* The command line argv[0..argc) as one shell-quoted string (argv[0]
- * without its directory), malloc'd; NULL if out of memory. */
-char *mesh_argv_string(int argc, char *const argv[]);
-
-/* Append a history line (newlines become spaces). */
-int mesh_history_add(mesh *m, const char *text);
-/* Append the command line argv[0..argc) as a history line. */
-int mesh_history_argv(mesh *m, int argc, char *const argv[]);
 
 #endif
