@@ -11,6 +11,7 @@
 #include <lapacke.h>
 
 #include "hessian.h"
+#include "measure.h"
 
 struct stab_decomp {
 	int n, nv;
@@ -19,7 +20,6 @@ struct stab_decomp {
 	double dmax;     /* largest |d| */
 	double zero;     /* zerotol * dmax */
 	int nneg, nzero;
-	double fmax;
 };
 
 void stab_opts_init(stab_opts *o)
@@ -141,7 +141,6 @@ int stab_decomp_alloc(const mesh *m, const model *p, const stab_opts *o,
 	}
 	sd->n = n;
 	sd->nv = m->nv;
-	sd->fmax = fmax;
 	st = mesh_hessian_eigen(m, m->r, p, o->solver, sd->d, sd->u);
 	if (st != MESH_OK) {
 		stab_decomp_free(sd);
@@ -162,7 +161,6 @@ int stab_decomp_alloc(const mesh *m, const model *p, const stab_opts *o,
 
 int stab_decomp_nneg(const stab_decomp *sd) { return sd->nneg; }
 int stab_decomp_nzero(const stab_decomp *sd) { return sd->nzero; }
-double stab_decomp_fmax(const stab_decomp *sd) { return sd->fmax; }
 
 const double *stab_decomp_eigenvalues(const stab_decomp *sd, int *n)
 {

@@ -48,7 +48,7 @@
 #include <signal.h>
 #include <stdio.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "hessian.h"
 #include "mesh.h"
 
@@ -117,7 +117,6 @@ void stab_decomp_free(stab_decomp *sd);
 
 int stab_decomp_nneg(const stab_decomp *sd);     /* negative modes */
 int stab_decomp_nzero(const stab_decomp *sd);    /* zero modes, translations included */
-double stab_decomp_fmax(const stab_decomp *sd);  /* largest vertex force */
 /* The eigenvalues, ascending (n = 2 nv of them). */
 const double *stab_decomp_eigenvalues(const stab_decomp *sd, int *n);
 

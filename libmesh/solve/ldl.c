@@ -75,11 +75,6 @@ fail:
 	return NULL;
 }
 
-double ldl_nnz(const ldl *f)
-{
-	return f->cm.lnz;
-}
-
 double ldl_bytes(const ldl *f)
 {
 	return 12 * f->cm.lnz + 28.0 * f->n;

@@ -35,9 +35,8 @@ typedef struct ldl ldl;
 ldl *ldl_analyze(const spsym *a);
 void ldl_free(ldl *f);
 
-/* Entries of L (the diagonal, D, included) after the analysis: the factor
- * holds 12 bytes for each, and the scratch 28 bytes per row. */
-double ldl_nnz(const ldl *f);
+/* The bytes of the factor after the analysis: 12 for each entry of L (the
+ * diagonal, D, included), and the scratch 28 per row. */
 double ldl_bytes(const ldl *f);
 
 /* Factor A + shift I (a with the pattern f was analyzed for).  MESH_OK,

@@ -1,6 +1,5 @@
 /* sparse.c - sparse symmetric matrices, and their shifted Cholesky
- * factorization through CHOLMOD (SuiteSparse): AMD ordering (METIS when
- * AMD's fill is poor), supernodal numeric factorization on LAPACK/BLAS,
+ * factorization through CHOLMOD (SuiteSparse): AMD ordering, supernodal numeric factorization on LAPACK/BLAS,
  * double-precision solves. */
 #include "sparse.h"
 #include "mesh.h"
@@ -148,10 +147,10 @@ void spsym_mulvec(const spsym *a, const double *x, double *y)
 
 /* ---- Cholesky ---- */
 
-/* CHOLMOD does the analysis: its fill-reducing ordering (AMD, or METIS
- * when AMD's fill is poor) and supernodal symbolic factorization take
- * time about proportional to the factor, where the hand-written minimum
- * degree on the explicit elimination graph grew as N^1.65 (2.4 s against
+/* CHOLMOD does the analysis: its fill-reducing ordering (AMD; see
+ * sparse_cholmod_start for why not METIS) and supernodal symbolic
+ * factorization take time about proportional to the factor, where the
+ * hand-written minimum degree on the explicit elimination graph grew as N^1.65 (2.4 s against
  * 25 ms at 10^4 cells).  The numeric factorization and the solves are
  * CHOLMOD's (LAPACK/BLAS on the supernodes, double-precision solves) for
  * large factors and the hand-written supernodal kernel below (single-

@@ -5,7 +5,7 @@
  * a vertex-model tissue couples only the vertices of one cell, so it has
  * ~26 nonzeros per row, and with a fill-reducing ordering its factor has
  * ~100k nonzeros for a 324-cell tissue (1296 variables).  The
- * factorization is CHOLMOD's (SuiteSparse; AMD or METIS ordering,
+ * factorization is CHOLMOD's (SuiteSparse; AMD ordering,
  * supernodal), chosen over a hand-written one by measurement
  * (bench/RESULTS.md).  One factorization serves many solves.
  * Each spchol owns its CHOLMOD workspace, so factorizations in different
