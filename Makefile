@@ -26,7 +26,7 @@ CFLAGS ?= $(OPT) -g
 CXXFLAGS ?= $(OPT) -g
 WARN = -Wall -Wextra
 # OpenMP for the threads of the kernel, the Hessian and the preconditioner
-# (the numbers do not depend on their count: geom.h)
+# (the numbers do not depend on their count: energy.h)
 OMP = -fopenmp
 LIB_INC = $(LAYERS:%=-Ilibmesh/%)
 ALL_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(OMP) $(LIB_INC) -DTIS_VERSION='"$(VERSION)"' $(CFLAGS)

@@ -26,7 +26,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "hessian.h"
 #include "mesh.h"
 #include "sparse.h"

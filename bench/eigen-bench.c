@@ -19,7 +19,7 @@
 #include <gsl/gsl_errno.h>
 #include <lapacke.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "hessian.h"
 #include "lattice.h"
 

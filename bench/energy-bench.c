@@ -18,7 +18,7 @@
 #include <time.h>
 
 #include "dynamics.h"
-#include "geom.h"
+#include "energy.h"
 #include "lattice.h"
 #include "order.h"
 

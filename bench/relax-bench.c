@@ -16,7 +16,7 @@
 
 #include <gsl/gsl_errno.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "minimize.h"
 
 static double now(void)

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 
 #include "dynamics.h"
-#include "geom.h"
+#include "energy.h"
 
 int main(int argc, char **argv)
 {

@@ -22,7 +22,7 @@
 #include <omp.h>
 #endif
 
-#include "geom.h"
+#include "energy.h"
 #include "hessian.h"
 #include "lattice.h"
 

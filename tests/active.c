@@ -18,7 +18,7 @@
 #include <gsl/gsl_matrix.h>
 
 #include "active.h"
-#include "geom.h"
+#include "energy.h"
 #include "hessian.h"
 #include "lattice.h"
 #include "tap.h"

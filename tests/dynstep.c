@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "dynamics.h"
-#include "geom.h"
+#include "energy.h"
 #include "lattice.h"
 #include "tap.h"
 

@@ -4,7 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "geom.h"
+#include "energy.h"
+#include "measure.h"
 #include "lattice.h"
 #include "tap.h"
 #include "voronoi.h"

@@ -16,7 +16,7 @@
 #include <string.h>
 
 #include "dynamics.h"
-#include "geom.h"
+#include "energy.h"
 #include "gradflow.h"
 #include "lattice.h"
 #include "tap.h"

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "lattice.h"
 #include "tap.h"
 

@@ -9,7 +9,7 @@
 
 #include <gsl/gsl_errno.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "hessian.h"
 #include "lattice.h"
 #include "minimize.h"

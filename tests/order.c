@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "order.h"
 #include "tap.h"
 #include "voronoi.h"

@@ -10,7 +10,7 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "hessian.h"
 #include "lattice.h"
 #include "minimize.h"

@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "dynamics.h"
-#include "geom.h"
+#include "energy.h"
 #include "gradflow.h"
 #include "events.h"
 #include "lattice.h"

@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include "dynamics.h"
-#include "geom.h"
+#include "energy.h"
 #include "lattice.h"
 #include "tap.h"
 

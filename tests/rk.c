@@ -19,7 +19,7 @@
 #include <gsl/gsl_odeiv2.h>
 
 #include "active.h"
-#include "geom.h"
+#include "energy.h"
 #include "lattice.h"
 #include "tap.h"
 

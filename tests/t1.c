@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "dynamics.h"
-#include "geom.h"
+#include "energy.h"
 #include "lattice.h"
 #include "noise.h"
 #include "tap.h"

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "hessian.h"
 #include "lattice.h"
 #include "minimize.h"

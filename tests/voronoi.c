@@ -4,7 +4,8 @@
 #include <string.h>
 
 #include "tap.h"
-#include "geom.h"
+#include "energy.h"
+#include "measure.h"
 #include "voronoi.h"
 
 /* Planar Poisson-Voronoi hexagon fraction (Calka 2003; Hilhorst 2005). */

@@ -9,7 +9,7 @@
 #include <sys/types.h>
 #include <time.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "mesh.h"
 #include "select.h"
 

@@ -9,7 +9,7 @@
 #include "cli.h"
 #include "select.h"
 #include "forcelen.h"
-#include "geom.h"
+#include "energy.h"
 
 static const char usage[] =
 	"(--junction A B | --index K | --random K [--seed S] | --all) [options] [MESH]";

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 
 #include "cli.h"
-#include "geom.h"
+#include "energy.h"
 #include "measure.h"
 
 static const char usage[] =

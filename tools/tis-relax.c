@@ -7,7 +7,7 @@
 
 
 #include "cli.h"
-#include "geom.h"
+#include "energy.h"
 #include "minimize.h"
 
 static const char usage[] =

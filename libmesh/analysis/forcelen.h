@@ -23,7 +23,7 @@
 #include <signal.h>
 #include <stdio.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "mesh.h"
 #include "minimize.h"
 

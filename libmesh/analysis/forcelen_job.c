@@ -2,6 +2,7 @@
  * to rest, the junctions swept on threads with the curves handed out in
  * order, the rows of its tables.  See forcelen.h. */
 #include "forcelen.h"
+#include "measure.h"
 
 #include <pthread.h>
 #include <stdlib.h>

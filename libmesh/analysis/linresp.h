@@ -76,7 +76,7 @@
 #ifndef TIS_LINRESP_H
 #define TIS_LINRESP_H
 
-#include "geom.h"
+#include "energy.h"
 #include "mesh.h"
 
 typedef struct linresp linresp;

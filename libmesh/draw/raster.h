@@ -14,7 +14,7 @@
 #ifndef TIS_RASTER_H
 #define TIS_RASTER_H
 
-#include "geom.h"
+#include "energy.h"
 
 typedef struct {
 	int w, h;

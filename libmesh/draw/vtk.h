@@ -19,7 +19,7 @@
 #define TIS_VTK_H
 
 #include <stdio.h>
-#include "geom.h"
+#include "energy.h"
 
 /* Write m as one .vtp file; t, if not NULL, as its field data TimeValue.
  * Points are where m has its vertices: mesh_wrap() m first to have them

@@ -55,7 +55,7 @@
 #include <signal.h>
 #include <stdio.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "mesh.h"
 
 typedef enum { ACT_EULER, ACT_BDF, ACT_SPLIT, ACT_DP5, ACT_BS3 } act_scheme;

@@ -12,7 +12,7 @@
 #include <stddef.h>
 
 #include "dynamics.h"
-#include "geom.h"
+#include "energy.h"
 #include "mesh.h"
 
 #define ANNEAL_MAXSTAGE 64

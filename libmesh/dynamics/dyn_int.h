@@ -4,7 +4,7 @@
 #define TIS_DYN_INT_H
 
 #include "dynamics.h"
-#include "geom.h"
+#include "energy.h"
 #include "noise.h"
 
 struct dyn {

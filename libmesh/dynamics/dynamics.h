@@ -97,7 +97,7 @@
 #include <signal.h>
 #include <stddef.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "mesh.h"
 
 typedef enum {
@@ -179,7 +179,7 @@ typedef struct {
 	                      jumps to the minimum and flips them there
 	                      ("Settling with T1s" above) */
 	int threads;       /* threads for the step's kernel and move (1: none;
-	                      the numbers do not depend on it, geom.h) */
+	                      the numbers do not depend on it, energy.h) */
 	int thread_min;    /* on a tissue of at least this many vertices
 	                      (0: ENERGY_PAR_NV) */
 } dyn_opts;

@@ -42,7 +42,7 @@
 #ifndef TIS_GRADFLOW_H
 #define TIS_GRADFLOW_H
 
-#include "geom.h"
+#include "energy.h"
 #include "mesh.h"
 
 #define GF_WINDOW 1e-3   /* relative: where an event step lands below e */

@@ -8,7 +8,7 @@
 #ifndef TIS_HESSIAN_H
 #define TIS_HESSIAN_H
 
-#include "geom.h"
+#include "energy.h"
 #include "mesh.h"
 #include "sparse.h"
 

@@ -12,7 +12,7 @@
 
 #include <signal.h>
 
-#include "geom.h"
+#include "energy.h"
 #include "mesh.h"
 #include "precond.h"
 
@@ -108,7 +108,7 @@ typedef struct {
 	int threads;       /* threads for Newton-CG's vector work and, in
 	                      mesh_relax, its kernel, Hessian products and
 	                      preconditioner (1, the default: none; the
-	                      numbers do not depend on it, geom.h) */
+	                      numbers do not depend on it, energy.h) */
 	int thread_min;    /* on a tissue of at least this many vertices
 	                      (0: ENERGY_PAR_NV) */
 } min_opts;

@@ -82,3 +82,52 @@ int mesh_time(const mesh *m, double *t)
 	}
 	return 0;
 }
+
+int mesh_stats_compute(const mesh *m, const model *p, mesh_stats *s)
+{
+	energy_ws *w = energy_ws_alloc(m);
+	double *g = malloc((2 * (size_t)m->nv + 1) * sizeof *g);
+	if (w == NULL || g == NULL) {
+		energy_ws_free(w);
+		free(g);
+		return MESH_ENOMEM;
+	}
+	*s = (mesh_stats){ .nv = m->nv, .nc = m->nc, .nj = m->nj };
+	s->energy = mesh_energy(m, m->r, p, g, w);
+	s->fmax = grad_max_norm(m->nv, g);
+	s->lmin = INFINITY;
+	s->lmax = 0;
+	double lsum = 0;
+	for (int j = 0; j < m->nj; j++) {
+		double l = junction_length(m, m->r, j);
+		lsum += l;
+		if (l < s->lmin)
+			s->lmin = l;
+		if (l > s->lmax)
+			s->lmax = l;
+	}
+	s->lmean = m->nj ? lsum / m->nj : 0;
+	s->amin = INFINITY;
+	s->amax = -INFINITY;
+	double shape = 0;
+	int n6 = 0;
+	for (int k = 0; k < m->nc; k++) {
+		int ns = m->coff[k + 1] - m->coff[k];
+		s->hist[ns < TIS_NSIDES ? ns : TIS_NSIDES - 1]++;
+		n6 += ns == 6;
+		double a = cell_area(m, m->r, k), per = cell_perimeter(m, m->r, k);
+		s->area_sum += a;
+		if (a < s->amin)
+			s->amin = a;
+		if (a > s->amax)
+			s->amax = a;
+		shape += per / sqrt(a);
+	}
+	s->nsides_max = TIS_NSIDES - 1;
+	s->f6 = m->nc ? (double)n6 / m->nc : 0;
+	s->shape_mean = m->nc ? shape / m->nc : 0;
+	s->area_relerr = fabs(s->area_sum / (m->lx * m->ly) - 1);
+	energy_ws_free(w);
+	free(g);
+	return MESH_OK;
+}

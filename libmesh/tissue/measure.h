@@ -4,6 +4,7 @@
 #ifndef TIS_MEASURE_H
 #define TIS_MEASURE_H
 
+#include "energy.h"
 #include "geom.h"
 
 typedef struct {
@@ -35,5 +36,24 @@ void mesh_perimeters(const mesh *m, double *perim);
  * "t VALUE" item in the note of the last history line (tis-anneal's "...;
  * t 100, 5000 steps"), else not known.  1 and *t set, or 0. */
 int mesh_time(const mesh *m, double *t);
+
+/* Whole-tissue statistics: counts, side histogram, energy, forces,
+ * lengths, shapes, areas. */
+typedef struct {
+	int nv, nc, nj;
+	int nsides_max;        /* histogram bins 0..TIS_NSIDES-1, last bin is ">=" */
+	int hist[16];
+	double f6;             /* fraction of hexagons */
+	double energy;
+	double fmax;           /* largest vertex force |grad_i W| */
+	double lmin, lmean, lmax;
+	double shape_mean;     /* mean P / sqrt(A) */
+	double area_sum, area_relerr;  /* sum of areas and |sum/(lx ly) - 1| */
+	double amin, amax;
+} mesh_stats;
+#define TIS_NSIDES 16
+
+/* Statistics of m at its own coordinates.  MESH_ENOMEM. */
+int mesh_stats_compute(const mesh *m, const model *p, mesh_stats *s);
 
 #endif
