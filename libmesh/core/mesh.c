@@ -273,13 +273,194 @@ static double polygon_area(const mesh *m, int k)
 	return 0.5 * a;
 }
 
+/* What mesh_build works with: every vertex's out-going edges (corner i
+ * is the edge cv[i] -> its next corner), and each corner's cell. */
+typedef struct {
+	const mesh *m;
+	const long *cell_line;  /* input line per cell, or NULL */
+	int *outoff;            /* nv + 1 offsets into outc */
+	int *outc;              /* the corners leaving each vertex */
+	int *ccell;             /* per corner: its cell */
+} build_ws;
+
+static long build_line(const build_ws *b, int k)
+{
+	return b->cell_line ? b->cell_line[k] : 0;
+}
+
+static int build_next(const build_ws *b, int i)
+{
+	const mesh *m = b->m;
+	return i + 1 < m->coff[b->ccell[i] + 1] ? i + 1 : m->coff[b->ccell[i]];
+}
+
+/* The first (last: the last) corner leaving vertex a for vertex v, other
+ * than skip, or -1.  Two of them mean a broken tissue; which one is
+ * named only changes the message. */
+static int build_edge(const build_ws *b, int a, int v, int skip, int last)
+{
+	int found = -1;
+	for (int t = b->outoff[a]; t < b->outoff[a + 1]; t++) {
+		int c = b->outc[t];
+		if (c != skip && b->m->cv[build_next(b, c)] == v) {
+			found = c;
+			if (!last)
+				break;
+		}
+	}
+	return found;
+}
+
+/* The box, the coordinates, and each cell's sides and vertex ids; then
+ * the out-going edges of every vertex. */
+static int build_cells(build_ws *b, mesh_error *err)
+{
+	const mesh *m = b->m;
+	int nv = m->nv, nc = m->nc, nk = m->coff[nc];
+	if (!(m->lx > 0 && m->ly > 0 && isfinite(m->lx) && isfinite(m->ly)))
+		return mesh_error_set(err, 0, MESH_EINVAL, "box must have positive finite sides");
+	if (nc < 1 || nv < 3)
+		return mesh_error_set(err, 0, MESH_EINVAL, "a tissue needs at least one cell and three vertices");
+	for (int i = 0; i < 2 * nv; i++)
+		if (!isfinite(m->r[i]))
+			return mesh_error_set(err, 0, MESH_EINVAL, "vertex %d has a non-finite coordinate", i / 2);
+	int *used = calloc((size_t)nv, sizeof *used), *fill = calloc((size_t)nv, sizeof *fill);
+	b->outoff = calloc((size_t)nv + 1, sizeof *b->outoff);
+	b->outc = malloc((nk ? nk : 1) * sizeof *b->outc);
+	b->ccell = malloc((nk ? nk : 1) * sizeof *b->ccell);
+	int st = used && fill && b->outoff && b->outc && b->ccell ? MESH_OK : MESH_ENOMEM;
+	for (int k = 0; k < nc && st == MESH_OK; k++) {
+		int s = m->coff[k], e = m->coff[k + 1];
+		if (e - s < 3) {
+			st = mesh_error_set(err, build_line(b, k), MESH_EINVAL,
+			                    "cell %d has %d sides, at least 3 needed", k, e - s);
+			break;
+		}
+		for (int i = s; i < e && st == MESH_OK; i++) {
+			int v = m->cv[i];
+			b->ccell[i] = k;
+			if (v < 0 || v >= nv)
+				st = mesh_error_set(err, build_line(b, k), MESH_EINVAL,
+				                    "cell %d: vertex id %d out of range 0..%d", k, v, nv - 1);
+			else if (used[v] == k + 1)
+				st = mesh_error_set(err, build_line(b, k), MESH_EINVAL,
+				                    "cell %d visits vertex %d twice", k, v);
+			else {
+				used[v] = k + 1;
+				b->outoff[v + 1]++;
+			}
+		}
+	}
+	for (int v = 0; v < nv && st == MESH_OK; v++) {
+		if (!used[v])
+			st = mesh_error_set(err, 0, MESH_EINVAL, "vertex %d belongs to no cell", v);
+		b->outoff[v + 1] += b->outoff[v];
+	}
+	if (st == MESH_OK)
+		for (int i = 0; i < nk; i++)
+			b->outc[b->outoff[m->cv[i]] + fill[m->cv[i]]++] = i;
+	free(used);
+	free(fill);
+	return st;
+}
+
+/* Every junction from its two corners, running opposite ways in two
+ * cells, shorter than half the box; its image offset by minimum image. */
+static int build_junctions(build_ws *b, mesh *m, mesh_error *err)
+{
+	int nk = m->coff[m->nc], nj = 0;
+	double half = 0.5 * fmin(m->lx, m->ly);
+	for (int i = 0; i < nk; i++)
+		m->cj[i] = -1;
+	for (int i = 0; i < nk; i++) {
+		if (m->cj[i] >= 0)
+			continue;
+		int a = m->cv[i], v = m->cv[build_next(b, i)], k = b->ccell[i];
+		int same = build_edge(b, a, v, i, 0);
+		if (same >= 0) {
+			int ks = b->ccell[same];
+			return mesh_error_set(err, build_line(b, ks > k ? ks : k), MESH_EINVAL,
+			                      "edge %d-%d runs the same way in cells %d and %d "
+			                      "(a clockwise cell, or a junction in more than two cells)",
+			                      a, v, k, ks);
+		}
+		int rev = build_edge(b, v, a, -1, 1);
+		if (rev < 0)
+			return mesh_error_set(err, build_line(b, k), MESH_EINVAL,
+			                      "junction %d-%d belongs to cell %d only", a, v, k);
+		if (b->ccell[rev] == k)
+			return mesh_error_set(err, build_line(b, k), MESH_EINVAL,
+			                      "cell %d runs along junction %d-%d both ways", k, a, v);
+		double dx = m->r[2 * v] - m->r[2 * a], dy = m->r[2 * v + 1] - m->r[2 * a + 1];
+		double sx = mesh_min_image_shift(dx, m->lx), sy = mesh_min_image_shift(dy, m->ly);
+		double len = hypot(dx + sx, dy + sy);
+		if (!(len < half))
+			return mesh_error_set(err, build_line(b, k), MESH_EINVAL,
+			                      "junction %d-%d of cell %d has length %.6g, not shorter than half the box (%.6g)",
+			                      a, v, k, len, half);
+		m->jv[2 * nj] = a;
+		m->jv[2 * nj + 1] = v;
+		m->jc[2 * nj] = k;
+		m->jc[2 * nj + 1] = b->ccell[rev];
+		m->jimg[2 * nj] = sx;
+		m->jimg[2 * nj + 1] = sy;
+		m->cj[i] = m->cj[rev] = nj;
+		nj++;
+	}
+	m->nj = nj;
+	return MESH_OK;
+}
+
+/* Each cell closes in the box, has positive area, and the areas tile the
+ * box. */
+static int build_areas(const build_ws *b, mesh *m, mesh_error *err)
+{
+	for (int k = 0; k < m->nc; k++)
+		if (!cell_offsets(m, k))
+			return mesh_error_set(err, build_line(b, k), MESH_EINVAL,
+			                      "cell %d wraps around the periodic box", k);
+	double asum = 0;
+	for (int k = 0; k < m->nc; k++) {
+		double a = polygon_area(m, k);
+		if (!(a > 0))
+			return mesh_error_set(err, build_line(b, k), MESH_EINVAL,
+			                      "cell %d has area %.6g; cells must be counter-clockwise with positive area",
+			                      k, a);
+		asum += a;
+	}
+	double box = m->lx * m->ly;
+	if (fabs(asum - box) > 1e-9 * box)
+		return mesh_error_set(err, 0, MESH_EINVAL,
+		                      "cell areas add up to %.12g, not the box area %.12g (overlapping or missing cells)",
+		                      asum, box);
+	return MESH_OK;
+}
+
+/* The tensions of the old junctions onto the new ones that join the same
+ * two vertices (either way round). */
+static int build_tensions(const build_ws *b, mesh *m, const int *oldjv, const double *olddg,
+                          int oldnj)
+{
+	m->dg = calloc(m->nj ? m->nj : 1, sizeof *m->dg);
+	if (m->dg == NULL)
+		return MESH_ENOMEM;
+	for (int j = 0; j < oldnj; j++) {
+		if (olddg[j] == 0)
+			continue;
+		int a = oldjv[2 * j], v = oldjv[2 * j + 1];
+		for (int t = b->outoff[a]; t < b->outoff[a + 1]; t++)
+			if (m->cv[build_next(b, b->outc[t])] == v)
+				m->dg[m->cj[b->outc[t]]] = olddg[j];
+		for (int t = b->outoff[v]; t < b->outoff[v + 1]; t++)
+			if (m->cv[build_next(b, b->outc[t])] == a)
+				m->dg[m->cj[b->outc[t]]] = olddg[j];
+	}
+	return MESH_OK;
+}
+
 int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 {
-#define LINE(k) (cell_line ? cell_line[k] : 0)
-	int nv = m->nv, nc = m->nc;
-	int nk = m->coff[nc];
-	int st = MESH_ENOMEM;
-	int *outoff = NULL, *outc = NULL, *fill = NULL, *used = NULL, *ccell = NULL;
+	int nk = m->coff[m->nc];
 	int *oldjv = m->jv;
 	double *olddg = m->dg;
 	int oldnj = m->nj;
@@ -287,188 +468,36 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 	m->dg = NULL;
 	free_derived(m);
 
-	if (!(m->lx > 0 && m->ly > 0 && isfinite(m->lx) && isfinite(m->ly))) {
-		st = mesh_error_set(err, 0, MESH_EINVAL, "box must have positive finite sides");
-		goto out;
+	build_ws b = { .m = m, .cell_line = cell_line };
+	int st = build_cells(&b, err);
+	if (st == MESH_OK) {
+		m->cj = malloc((nk ? nk : 1) * sizeof *m->cj);
+		m->cimg = malloc((nk ? 2 * (size_t)nk : 1) * sizeof *m->cimg);
+		/* a valid tissue has exactly nk/2 junctions; allocate for that */
+		m->jv = malloc((nk / 2 + 1) * 2 * sizeof *m->jv);
+		m->jc = malloc((nk / 2 + 1) * 2 * sizeof *m->jc);
+		m->jimg = malloc((nk / 2 + 1) * 2 * sizeof *m->jimg);
+		if (!m->cj || !m->cimg || !m->jv || !m->jc || !m->jimg)
+			st = MESH_ENOMEM;
 	}
-	if (nc < 1 || nv < 3) {
-		st = mesh_error_set(err, 0, MESH_EINVAL, "a tissue needs at least one cell and three vertices");
-		goto out;
-	}
-	for (int i = 0; i < 2 * nv; i++)
-		if (!isfinite(m->r[i])) {
-			st = mesh_error_set(err, 0, MESH_EINVAL, "vertex %d has a non-finite coordinate", i / 2);
-			goto out;
-		}
-
-	outoff = calloc((size_t)nv + 1, sizeof *outoff);
-	fill = calloc((size_t)nv, sizeof *fill);
-	used = calloc((size_t)nv, sizeof *used);
-	outc = malloc((nk ? nk : 1) * sizeof *outc);
-	m->cj = malloc((nk ? nk : 1) * sizeof *m->cj);
-	m->cimg = malloc((nk ? 2 * (size_t)nk : 1) * sizeof *m->cimg);
-	/* a valid tissue has exactly nk/2 junctions; allocate for that */
-	m->jv = malloc((nk / 2 + 1) * 2 * sizeof *m->jv);
-	m->jc = malloc((nk / 2 + 1) * 2 * sizeof *m->jc);
-	m->jimg = malloc((nk / 2 + 1) * 2 * sizeof *m->jimg);
-	if (!outoff || !fill || !used || !outc || !m->cj || !m->cimg || !m->jv ||
-	    !m->jc || !m->jimg)
-		goto out;
-
-	/* Cells: size, ids, repeated vertices. */
-	for (int k = 0; k < nc; k++) {
-		int s = m->coff[k], e = m->coff[k + 1];
-		if (e - s < 3) {
-			st = mesh_error_set(err, LINE(k), MESH_EINVAL, "cell %d has %d sides, at least 3 needed", k, e - s);
-			goto out;
-		}
-		for (int i = s; i < e; i++) {
-			int v = m->cv[i];
-			if (v < 0 || v >= nv) {
-				st = mesh_error_set(err, LINE(k), MESH_EINVAL, "cell %d: vertex id %d out of range 0..%d", k, v, nv - 1);
-				goto out;
-			}
-			if (used[v] == k + 1) {
-				st = mesh_error_set(err, LINE(k), MESH_EINVAL, "cell %d visits vertex %d twice", k, v);
-				goto out;
-			}
-			used[v] = k + 1;
-			outoff[v + 1]++;
-		}
-	}
-	for (int v = 0; v < nv; v++) {
-		if (!used[v]) {
-			st = mesh_error_set(err, 0, MESH_EINVAL, "vertex %d belongs to no cell", v);
-			goto out;
-		}
-		outoff[v + 1] += outoff[v];
-	}
-	/* Out-going edges of every vertex: corner i is the edge cv[i] -> next. */
-	for (int i = 0; i < nk; i++)
-		outc[outoff[m->cv[i]] + fill[m->cv[i]]++] = i;
-
-	ccell = malloc((nk ? nk : 1) * sizeof *ccell);
-	if (ccell == NULL)
-		goto out;
-	for (int k = 0; k < nc; k++)
-		for (int i = m->coff[k]; i < m->coff[k + 1]; i++)
-			ccell[i] = k;
-#define NEXT(i) ((i) + 1 < m->coff[ccell[i] + 1] ? (i) + 1 : m->coff[ccell[i]])
-
-	for (int i = 0; i < nk; i++)
-		m->cj[i] = -1;
-	int nj = 0;
-	double half = 0.5 * fmin(m->lx, m->ly);
-	for (int i = 0; i < nk; i++) {
-		if (m->cj[i] >= 0)
-			continue;
-		int a = m->cv[i], b = m->cv[NEXT(i)], k = ccell[i];
-		int rev = -1;
-		for (int t = outoff[a]; t < outoff[a + 1]; t++) {
-			int c = outc[t];
-			if (c != i && m->cv[NEXT(c)] == b) {
-				st = mesh_error_set(err, LINE(ccell[c] > k ? ccell[c] : k), MESH_EINVAL,
-					  "edge %d-%d runs the same way in cells %d and %d "
-					  "(a clockwise cell, or a junction in more than two cells)",
-					  a, b, k, ccell[c]);
-				goto out;
-			}
-		}
-		for (int t = outoff[b]; t < outoff[b + 1]; t++) {
-			int c = outc[t];
-			if (m->cv[NEXT(c)] == a)
-				rev = c;
-		}
-		if (rev < 0) {
-			st = mesh_error_set(err, LINE(k), MESH_EINVAL, "junction %d-%d belongs to cell %d only", a, b, k);
-			goto out;
-		}
-		if (ccell[rev] == k) {
-			st = mesh_error_set(err, LINE(k), MESH_EINVAL, "cell %d runs along junction %d-%d both ways", k, a, b);
-			goto out;
-		}
-		double dx = m->r[2 * b] - m->r[2 * a], dy = m->r[2 * b + 1] - m->r[2 * a + 1];
-		double sx = mesh_min_image_shift(dx, m->lx), sy = mesh_min_image_shift(dy, m->ly);
-		double len = hypot(dx + sx, dy + sy);
-		if (!(len < half)) {
-			st = mesh_error_set(err, LINE(k), MESH_EINVAL,
-				  "junction %d-%d of cell %d has length %.6g, not shorter than half the box (%.6g)",
-				  a, b, k, len, half);
-			goto out;
-		}
-		m->jv[2 * nj] = a;
-		m->jv[2 * nj + 1] = b;
-		m->jc[2 * nj] = k;
-		m->jc[2 * nj + 1] = ccell[rev];
-		m->jimg[2 * nj] = sx;
-		m->jimg[2 * nj + 1] = sy;
-		m->cj[i] = m->cj[rev] = nj;
-		nj++;
-	}
-	m->nj = nj;
-
-	for (int k = 0; k < nc; k++) {
-		if (!cell_offsets(m, k)) {
-			st = mesh_error_set(err, LINE(k), MESH_EINVAL, "cell %d wraps around the periodic box", k);
-			goto out;
-		}
-	}
-	double asum = 0;
-	for (int k = 0; k < nc; k++) {
-		double a = polygon_area(m, k);
-		if (!(a > 0)) {
-			st = mesh_error_set(err, LINE(k), MESH_EINVAL,
-				  "cell %d has area %.6g; cells must be counter-clockwise with positive area", k, a);
-			goto out;
-		}
-		asum += a;
-	}
-	double box = m->lx * m->ly;
-	if (fabs(asum - box) > 1e-9 * box) {
-		st = mesh_error_set(err, 0, MESH_EINVAL,
-			  "cell areas add up to %.12g, not the box area %.12g (overlapping or missing cells)",
-			  asum, box);
-		goto out;
-	}
-
-	/* Carry tensions over by vertex pair. */
-	if (olddg) {
-		m->dg = calloc(nj ? nj : 1, sizeof *m->dg);
-		if (m->dg == NULL)
-			goto out;
-		for (int j = 0; j < oldnj; j++) {
-			if (olddg[j] == 0)
-				continue;
-			int a = oldjv[2 * j], b = oldjv[2 * j + 1];
-			for (int t = outoff[a]; t < outoff[a + 1]; t++) {
-				int c = outc[t];
-				if (m->cv[NEXT(c)] == b)
-					m->dg[m->cj[c]] = olddg[j];
-			}
-			for (int t = outoff[b]; t < outoff[b + 1]; t++) {
-				int c = outc[t];
-				if (m->cv[NEXT(c)] == a)
-					m->dg[m->cj[c]] = olddg[j];
-			}
-		}
-	}
-	mesh_kernel_build(m);
-	st = MESH_OK;
-out:
+	if (st == MESH_OK)
+		st = build_junctions(&b, m, err);
+	if (st == MESH_OK)
+		st = build_areas(&b, m, err);
+	if (st == MESH_OK && olddg)
+		st = build_tensions(&b, m, oldjv, olddg, oldnj);
+	if (st == MESH_OK)
+		mesh_kernel_build(m);
 	if (st == MESH_ENOMEM)
 		mesh_error_set(err, 0, st, "out of memory");
 	if (st != MESH_OK)
 		free_derived(m);
-	free(outoff);
-	free(fill);
-	free(used);
-	free(outc);
-	free(ccell);
+	free(b.outoff);
+	free(b.outc);
+	free(b.ccell);
 	free(oldjv);
 	free(olddg);
 	return st;
-#undef NEXT
-#undef LINE
 }
 
 int mesh_from_cells(double lx, double ly, int nv, const double *r, int nc,

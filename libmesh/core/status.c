@@ -4,14 +4,20 @@
 #include <stdarg.h>
 #include <stdio.h>
 
-int mesh_error_set(mesh_error *err, long line, int status, const char *fmt, ...)
+int mesh_error_vset(mesh_error *err, long line, int status, const char *fmt, va_list ap)
 {
 	if (err) {
-		va_list ap;
 		err->line = line;
-		va_start(ap, fmt);
 		vsnprintf(err->msg, sizeof err->msg, fmt, ap);
-		va_end(ap);
 	}
 	return status;
+}
+
+int mesh_error_set(mesh_error *err, long line, int status, const char *fmt, ...)
+{
+	va_list ap;
+	va_start(ap, fmt);
+	int st = mesh_error_vset(err, line, status, fmt, ap);
+	va_end(ap);
+	return st;
 }

@@ -6,6 +6,8 @@
 #ifndef TIS_STATUS_H
 #define TIS_STATUS_H
 
+#include <stdarg.h>
+
 enum mesh_status {
 	MESH_OK = 0,
 	MESH_EOF = -1,     /* mesh_read: no further mesh in the stream */
@@ -27,5 +29,8 @@ typedef struct {
  * status: the one way every libmesh module reports a failure. */
 int mesh_error_set(mesh_error *err, long line, int status, const char *fmt, ...)
 	__attribute__((format(printf, 4, 5)));
+/* The same with a va_list, for a module's own error wrappers. */
+int mesh_error_vset(mesh_error *err, long line, int status, const char *fmt, va_list ap)
+	__attribute__((format(printf, 4, 0)));
 
 #endif
