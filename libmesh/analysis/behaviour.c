@@ -145,12 +145,8 @@ static int row_at(int n, const double *t, double tt)
 	return i;
 }
 
-int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
-                 beh_result *r, mesh_error *err)
+static int check_trace(int n, const double *t, const double *l, mesh_error *err)
 {
-	*r = (beh_result){ .kind = BEH_UNDECIDED, .amplitude = NAN, .period = NAN, .decay = NAN,
-	                   .irregularity = NAN, .t_c = NAN, .beta = NAN, .beta_err = NAN,
-	                   .l_mean = NAN, .l0 = NAN, .l_end = NAN, .t_end = NAN };
 	if (n < 1)
 		return mesh_error_set(err, 0, MESH_EINVAL, "empty trace");
 	for (int i = 0; i < n; i++) {
@@ -161,46 +157,30 @@ int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
 			return mesh_error_set(err, i + 1, MESH_EINVAL,
 			                      "row %d: t does not increase", i + 1);
 	}
-	double l0 = isfinite(o->l0) ? o->l0 : l[0];
-	r->l0 = l0;
-	r->l_end = l[n - 1];
-	r->t_end = t[n - 1];
-	double t0 = t[0], span = t[n - 1] - t[0];
-	int half = row_at(n, t, t0 + 0.5 * span);
-	int tail = row_at(n, t, t[n - 1] - o->tail_frac * span);
-	r->l_mean = time_mean(n, t, l, half);
-	if (n < 8)
-		return MESH_OK;
+	return MESH_OK;
+}
 
-	/* 2. collapse */
+/* Rule 2: l ends below collapse_frac l0, falling, below every row of the
+ * tail. */
+static int collapsing(int n, const double *l, double l0, int tail, const beh_opts *o)
+{
 	int falling = l[n - 1] < l[n - 2];
 	for (int i = tail; i < n - 1; i++)
 		falling &= l[i] > l[n - 1];
-	if (l[n - 1] <= o->collapse_frac * l0 && falling) {
-		int st = beh_collapse_fit(n, t, l, &r->t_c, &r->beta, &r->beta_err, &r->fit_n, err);
-		if (st == MESH_ENOMEM)
-			return st;
-		r->kind = st == MESH_OK ? BEH_COLLAPSE : BEH_UNDECIDED;
-		return MESH_OK;
-	}
+	return l[n - 1] <= o->collapse_frac * l0 && falling;
+}
 
-	double amax = 0;
-	for (int i = 0; i < n; i++)
-		if (fabs(l[i] - l0) > amax)
-			amax = fabs(l[i] - l0);
-	/* 3. nothing moved */
-	if (amax == 0) {
-		r->kind = BEH_STABLE;
-		return MESH_OK;
-	}
-
-	/* 5 (counted first, reported with every behaviour). Sign changes
-	 * with a band; each change is timed at the last zero passage of x
-	 * before it (linear interpolation). */
-	double h = o->band_frac * amax, tzero = t[0];
-	int s = 0, cap = 16, nup = 0;
-	double *up = malloc((size_t)cap * sizeof *up);
-	if (up == NULL)
+/* Rule 5: sign changes of l - l0 outside a band of h, counted into
+ * r->changes; each upward one timed at the last zero passage before it
+ * (linear interpolation), into *up (malloc'd, *nup of them). */
+static int upward_crossings(int n, const double *t, const double *l, double l0, double h,
+                            beh_result *r, double **up, int *nup, mesh_error *err)
+{
+	double tzero = t[0];
+	int s = 0, cap = 16;
+	*nup = 0;
+	*up = malloc((size_t)cap * sizeof **up);
+	if (*up == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	for (int i = 0; i < n; i++) {
 		double x = l[i] - l0;
@@ -215,28 +195,36 @@ int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
 		if (s != 0 && sx != s) {
 			r->changes++;
 			if (sx > 0) {
-				if (nup == cap) {
-					double *q = realloc(up, 2 * (size_t)cap * sizeof *up);
+				if (*nup == cap) {
+					double *q = realloc(*up, 2 * (size_t)cap * sizeof **up);
 					if (q == NULL) {
-						free(up);
+						free(*up);
+						*up = NULL;
 						return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 					}
-					up = q;
+					*up = q;
 					cap *= 2;
 				}
-				up[nup++] = tzero;
+				(*up)[(*nup)++] = tzero;
 			}
 		}
 		s = sx;
 	}
+	return MESH_OK;
+}
+
+/* The periods between upward crossings: r->periods, and over the last
+ * five (at most) the mean amplitude (max - min)/2 and period, the decay
+ * rate of log amplitude per period and the irregularity.  Returns how
+ * many periods the means took, or -1 out of memory. */
+static int period_stats(int n, const double *t, const double *l, const double *up, int nup,
+                        beh_result *r)
+{
 	int np = nup > 0 ? nup - 1 : 0;
 	r->periods = np;
-	/* per period: amplitude (max - min)/2 and length */
 	double *amp = malloc(2 * (size_t)(np > 0 ? np : 1) * sizeof *amp);
-	if (amp == NULL) {
-		free(up);
-		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	}
+	if (amp == NULL)
+		return -1;
 	double *per = amp + (np > 0 ? np : 1);
 	for (int k = 0, i = 0; k < np; k++) {
 		double lo = INFINITY, hi = -INFINITY;
@@ -272,25 +260,91 @@ int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
 		r->decay = b;
 		r->irregularity = fmax(sqrt(ssr / m), sqrt(vp) / r->period);
 	}
-	free(up);
 	free(amp);
+	return m;
+}
 
-	/* 4. cusp: settled away from l0 */
+/* Rule 4 (cusp): settled away from l0, on one side of it since half time,
+ * hardly drifting over the tail. */
+static int at_cusp(int n, const double *l, double l0, int half, double drift, const beh_opts *o)
+{
 	double dend = l[n - 1] - l0;
 	int one_sign = 1;
 	for (int i = half; i < n; i++)
 		one_sign &= (l[i] - l0) * dend > 0;
-	double drift = 0;
-	for (int i = tail; i < n; i++)
-		drift = fmax(drift, fabs(l[i] - l[n - 1]));
-	if (fabs(dend) >= o->cusp_frac * l0 && one_sign && drift <= 0.05 * fabs(dend)) {
-		r->kind = BEH_CUSP;
+	return fabs(dend) >= o->cusp_frac * l0 && one_sign && drift <= 0.05 * fabs(dend);
+}
+
+/* What the periods say, where there are at least 3 of them. */
+static beh_kind periodic_kind(const beh_result *r, const beh_opts *o)
+{
+	if (r->irregularity > o->irregular)
+		return BEH_QUASICYCLE;
+	if (r->decay < -o->cycle_tol)
+		return BEH_DAMPED;
+	if (r->decay > o->cycle_tol)
+		return BEH_UNDECIDED;
+	return BEH_CYCLE;
+}
+
+int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
+                 beh_result *r, mesh_error *err)
+{
+	*r = (beh_result){ .kind = BEH_UNDECIDED, .amplitude = NAN, .period = NAN, .decay = NAN,
+	                   .irregularity = NAN, .t_c = NAN, .beta = NAN, .beta_err = NAN,
+	                   .l_mean = NAN, .l0 = NAN, .l_end = NAN, .t_end = NAN };
+	int st = check_trace(n, t, l, err);
+	if (st != MESH_OK)
+		return st;
+	double l0 = isfinite(o->l0) ? o->l0 : l[0];
+	r->l0 = l0;
+	r->l_end = l[n - 1];
+	r->t_end = t[n - 1];
+	double t0 = t[0], span = t[n - 1] - t[0];
+	int half = row_at(n, t, t0 + 0.5 * span);
+	int tail = row_at(n, t, t[n - 1] - o->tail_frac * span);
+	r->l_mean = time_mean(n, t, l, half);
+	if (n < 8)
+		return MESH_OK;
+
+	if (collapsing(n, l, l0, tail, o)) {
+		st = beh_collapse_fit(n, t, l, &r->t_c, &r->beta, &r->beta_err, &r->fit_n, err);
+		if (st == MESH_ENOMEM)
+			return st;
+		r->kind = st == MESH_OK ? BEH_COLLAPSE : BEH_UNDECIDED;
 		return MESH_OK;
 	}
 
-	double xt = 0;
-	for (int i = tail; i < n; i++)
+	double amax = 0;
+	for (int i = 0; i < n; i++)
+		if (fabs(l[i] - l0) > amax)
+			amax = fabs(l[i] - l0);
+	/* 3. nothing moved */
+	if (amax == 0) {
+		r->kind = BEH_STABLE;
+		return MESH_OK;
+	}
+
+	/* 5, counted first and reported with every behaviour */
+	double *up;
+	int nup;
+	st = upward_crossings(n, t, l, l0, o->band_frac * amax, r, &up, &nup, err);
+	if (st != MESH_OK)
+		return st;
+	int m = period_stats(n, t, l, up, nup, r);
+	free(up);
+	if (m < 0)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+
+	double drift = 0, xt = 0;
+	for (int i = tail; i < n; i++) {
+		drift = fmax(drift, fabs(l[i] - l[n - 1]));
 		xt = fmax(xt, fabs(l[i] - l0));
+	}
+	if (at_cusp(n, l, l0, half, drift, o)) {
+		r->kind = BEH_CUSP;
+		return MESH_OK;
+	}
 	/* settled: at rest by the end, at l0 or (floppy tissue, zero modes)
 	 * at a nearby length the rules above did not call a cusp */
 	int decayed = xt <= 0.1 * amax || drift <= 0.05 * amax;
@@ -298,14 +352,7 @@ int beh_classify(int n, const double *t, const double *l, const beh_opts *o,
 	 * noise; irregular ones that have (passive modes beating with the
 	 * junction's at small amplitude) are judged like the rest. */
 	if (m >= 3 && !(r->irregularity > o->irregular && decayed)) {
-		if (r->irregularity > o->irregular)
-			r->kind = BEH_QUASICYCLE;
-		else if (r->decay < -o->cycle_tol)
-			r->kind = BEH_DAMPED;
-		else if (r->decay > o->cycle_tol)
-			r->kind = BEH_UNDECIDED;
-		else
-			r->kind = BEH_CYCLE;
+		r->kind = periodic_kind(r, o);
 		return MESH_OK;
 	}
 	if (decayed)
