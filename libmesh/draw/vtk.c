@@ -384,50 +384,38 @@ static const char *section(const char *s, const char *tag, const char **hi)
 	return *hi ? lo : NULL;
 }
 
-int vtk_read_vtp(FILE *f, mesh **out, double *t, int *has_t, mesh_error *err)
+/* A .vtp as tis-vtk writes it: its sections' spans in the text. */
+typedef struct {
+	const char *fd, *fhi;   /* FieldData */
+	const char *pt, *phi;   /* Points */
+	const char *pd, *vhi;   /* PointData */
+	const char *cd, *chi;   /* CellData */
+	const char *ln, *lhi;   /* Lines */
+	const char *pl, *qhi;   /* Polys */
+	double *vert;           /* per point: its vertex id */
+	size_t nvert;
+} vtp_doc;
+
+/* The mesh of the points (the first nv of them the vertices, the rest
+ * periodic images) and polygons. */
+static int vtp_cells(vtp_doc *d, double lx, double ly, mesh **out, mesh_error *err)
 {
-	*out = NULL;
-	*has_t = 0;
-	int bad;
-	char *s = slurp(f, (size_t)1 << 31, &bad);
-	if (s == NULL)
-		return bad ? mesh_error_set(err, 0, MESH_EINVAL, "not a text file (or larger than 2 GB)")
-			   : mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	int st = MESH_EINVAL;
-	double *box = NULL, *p0 = NULL, *ka = NULL, *tv = NULL, *pts = NULL, *vert = NULL;
-	double *pc = NULL, *po = NULL, *lc = NULL, *dg = NULL;
+	size_t npts, npc, npo;
+	double *pts = section_array(d->pt, d->phi, NULL, &npts, 0), *pc = NULL, *po = NULL;
 	int *coff = NULL, *cv = NULL;
 	double *r = NULL;
-	mesh *m = NULL;
-	size_t nb, np0, nka, ntv, npts, nvert, npc, npo, nlc, ndg;
-	const char *fhi, *fd = section(s, "FieldData", &fhi);
-	const char *phi, *pt = section(s, "Points", &phi);
-	const char *vhi, *pd = section(s, "PointData", &vhi);
-	const char *chi, *cd = section(s, "CellData", &chi);
-	const char *lhi, *ln = section(s, "Lines", &lhi);
-	const char *qhi, *pl = section(s, "Polys", &qhi);
-	if (strstr(s, "<VTKFile type=\"PolyData\"") == NULL || !pt || !pd || !pl) {
-		st = mesh_error_set(err, 0, MESH_EINVAL, "not a VTK PolyData file in ASCII (as tis-vtk writes)");
-		goto out;
-	}
-	if (!fd || !(box = section_array(fd, fhi, "Box", &nb, 0)) || nb != 2) {
-		st = mesh_error_set(err, 0, MESH_EINVAL, "no Box field data: not written by this tis-vtk");
-		goto out;
-	}
-	p0 = section_array(fd, fhi, "p0", &np0, 0);
-	ka = section_array(fd, fhi, "ka", &nka, 0);
-	tv = section_array(fd, fhi, "TimeValue", &ntv, 0);
-	pts = section_array(pt, phi, NULL, &npts, 0);
+	int st = MESH_EINVAL;
 	if (pts == NULL || npts % 3 || npts / 3 > INT_MAX / 8 ||
-	    !(vert = section_array(pd, vhi, "vertex", &nvert, (double)npts / 3)) || nvert != npts / 3) {
+	    !(d->vert = section_array(d->pd, d->vhi, "vertex", &d->nvert, (double)npts / 3)) ||
+	    d->nvert != npts / 3) {
 		st = mesh_error_set(err, 0, MESH_EINVAL, "bad Points or vertex array");
 		goto out;
 	}
 	size_t nv = 0;
-	while (nv < nvert && vert[nv] == (double)nv)
+	while (nv < d->nvert && d->vert[nv] == (double)nv)
 		nv++;
-	pc = section_array(pl, qhi, "connectivity", &npc, (double)nvert);
-	po = section_array(pl, qhi, "offsets", &npo, 0);
+	pc = section_array(d->pl, d->qhi, "connectivity", &npc, (double)d->nvert);
+	po = section_array(d->pl, d->qhi, "offsets", &npo, 0);
 	if (pc == NULL || po == NULL || npo == 0 || npo > INT_MAX / 8) {
 		st = mesh_error_set(err, 0, MESH_EINVAL, "bad Polys arrays");
 		goto out;
@@ -452,74 +440,112 @@ int vtk_read_vtp(FILE *f, mesh **out, double *t, int *has_t, mesh_error *err)
 		goto out;
 	}
 	for (size_t i = 0; i < npc; i++)
-		cv[i] = (int)vert[(size_t)pc[i]];
+		cv[i] = (int)d->vert[(size_t)pc[i]];
 	for (size_t v = 0; v < nv; v++) {
 		r[2 * v] = pts[3 * v];
 		r[2 * v + 1] = pts[3 * v + 1];
 	}
-	st = mesh_from_cells(box[0], box[1], (int)nv, r, (int)npo, coff, cv, &m, err);
-	if (st != MESH_OK)
-		goto out;
-	if (p0 && np0 == 1 && mesh_param_set(m, "p0", p0[0]) != MESH_OK)
-		goto nomem;
-	if (ka && nka == 1 && mesh_param_set(m, "ka", ka[0]) != MESH_OK)
-		goto nomem;
-	/* tensions from the lines: the first cell data values are theirs */
-	lc = ln ? section_array(ln, lhi, "connectivity", &nlc, (double)nvert) : NULL;
-	dg = cd ? section_array(cd, chi, "dg", &ndg, 0) : NULL;
-	if (!lc || !dg || nlc % 2 || ndg < nlc / 2) {
-		st = mesh_error_set(err, 0, MESH_EINVAL, "bad Lines or dg arrays");
-		goto out;
-	}
-	{
-		mesh_jindex *ix = mesh_jindex_alloc(m);
-		if (ix == NULL || mesh_tension_alloc(m) != MESH_OK) {
-			mesh_jindex_free(ix);
-			goto nomem;
-		}
-		for (size_t j = 0; j < nlc / 2; j++) {
-			int a = (int)vert[(size_t)lc[2 * j]], b = (int)vert[(size_t)lc[2 * j + 1]];
-			int k = mesh_jindex_find(ix, m, a, b);
-			if (k < 0) {
-				mesh_jindex_free(ix);
-				st = mesh_error_set(err, 0, MESH_EINVAL, "line %zu (%d-%d) is not a junction", j, a, b);
-				goto out;
-			}
-			if (!isfinite(dg[j])) {
-				mesh_jindex_free(ix);
-				st = mesh_error_set(err, 0, MESH_EINVAL, "line %zu: dg is not finite", j);
-				goto out;
-			}
-			m->dg[k] = dg[j];
-		}
-		mesh_jindex_free(ix);
-	}
-	if (tv && ntv == 1) {
-		*t = tv[0];
-		*has_t = 1;
-	}
-	*out = m;
-	m = NULL;
-	st = MESH_OK;
-	goto out;
-nomem:
-	st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	st = mesh_from_cells(lx, ly, (int)nv, r, (int)npo, coff, cv, out, err);
 out:
-	mesh_free(m);
-	free(s);
-	free(box);
-	free(p0);
-	free(ka);
-	free(tv);
 	free(pts);
-	free(vert);
 	free(pc);
 	free(po);
-	free(lc);
-	free(dg);
 	free(coff);
 	free(cv);
 	free(r);
+	return st;
+}
+
+/* The tensions from the lines: the first cell data values are theirs. */
+static int vtp_tensions(const vtp_doc *d, mesh *m, mesh_error *err)
+{
+	size_t nlc, ndg;
+	double *lc = d->ln ? section_array(d->ln, d->lhi, "connectivity", &nlc, (double)d->nvert) : NULL;
+	double *dg = d->cd ? section_array(d->cd, d->chi, "dg", &ndg, 0) : NULL;
+	mesh_jindex *ix = NULL;
+	int st = MESH_OK;
+	if (!lc || !dg || nlc % 2 || ndg < nlc / 2)
+		st = mesh_error_set(err, 0, MESH_EINVAL, "bad Lines or dg arrays");
+	else if ((ix = mesh_jindex_alloc(m)) == NULL || mesh_tension_alloc(m) != MESH_OK)
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	for (size_t j = 0; st == MESH_OK && j < nlc / 2; j++) {
+		int a = (int)d->vert[(size_t)lc[2 * j]], b = (int)d->vert[(size_t)lc[2 * j + 1]];
+		int k = mesh_jindex_find(ix, m, a, b);
+		if (k < 0)
+			st = mesh_error_set(err, 0, MESH_EINVAL, "line %zu (%d-%d) is not a junction", j, a, b);
+		else if (!isfinite(dg[j]))
+			st = mesh_error_set(err, 0, MESH_EINVAL, "line %zu: dg is not finite", j);
+		else
+			m->dg[k] = dg[j];
+	}
+	mesh_jindex_free(ix);
+	free(lc);
+	free(dg);
+	return st;
+}
+
+/* The one-value field data: p0 and ka into the mesh, the time into *t. */
+static int vtp_fields(const vtp_doc *d, mesh *m, double *t, int *has_t)
+{
+	static const char *const name[] = { "p0", "ka", "TimeValue" };
+	int st = MESH_OK;
+	for (int i = 0; i < 3; i++) {
+		size_t n;
+		double *v = section_array(d->fd, d->fhi, name[i], &n, 0);
+		if (v && n == 1) {
+			if (i < 2 && mesh_param_set(m, name[i], v[0]) != MESH_OK)
+				st = MESH_ENOMEM;
+			if (i == 2) {
+				*t = v[0];
+				*has_t = 1;
+			}
+		}
+		free(v);
+	}
+	return st;
+}
+
+int vtk_read_vtp(FILE *f, mesh **out, double *t, int *has_t, mesh_error *err)
+{
+	*out = NULL;
+	*has_t = 0;
+	int bad;
+	char *s = slurp(f, (size_t)1 << 31, &bad);
+	if (s == NULL)
+		return bad ? mesh_error_set(err, 0, MESH_EINVAL, "not a text file (or larger than 2 GB)")
+			   : mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	vtp_doc d = { 0 };
+	d.fd = section(s, "FieldData", &d.fhi);
+	d.pt = section(s, "Points", &d.phi);
+	d.pd = section(s, "PointData", &d.vhi);
+	d.cd = section(s, "CellData", &d.chi);
+	d.ln = section(s, "Lines", &d.lhi);
+	d.pl = section(s, "Polys", &d.qhi);
+	mesh *m = NULL;
+	double *box = NULL;
+	size_t nb;
+	double tt = 0;
+	int ht = 0, st;
+	if (strstr(s, "<VTKFile type=\"PolyData\"") == NULL || !d.pt || !d.pd || !d.pl)
+		st = mesh_error_set(err, 0, MESH_EINVAL, "not a VTK PolyData file in ASCII (as tis-vtk writes)");
+	else if (!d.fd || !(box = section_array(d.fd, d.fhi, "Box", &nb, 0)) || nb != 2)
+		st = mesh_error_set(err, 0, MESH_EINVAL, "no Box field data: not written by this tis-vtk");
+	else
+		st = vtp_cells(&d, box[0], box[1], &m, err);
+	if (st == MESH_OK && vtp_fields(&d, m, &tt, &ht) != MESH_OK)
+		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	if (st == MESH_OK)
+		st = vtp_tensions(&d, m, err);
+	if (st == MESH_OK) {
+		*out = m;
+		m = NULL;
+		*t = tt;
+		*has_t = ht;
+	}
+	mesh_free(m);
+	free(box);
+	free(d.vert);
+	free(s);
 	return st;
 }
 
