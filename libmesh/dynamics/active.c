@@ -1,10 +1,8 @@
-/* active.c - active junction runs: options, start state, the Euler scheme
- * (on dynamics.c) with its events, the checkpoints of the Euler and
- * Runge-Kutta schemes; the BDF scheme is in bdf.c, the Runge-Kutta ones
- * in rk.c. */
+/* active.c - active junction runs (active.h): options, the dispatch to
+ * the scheme families (active_euler.c, active_rk.c, active_bdf.c), what
+ * every scheme's run shares (trace rows, watched junctions), the start
+ * state. */
 #include "active_int.h"
-#include "bdf.h"
-#include "rk.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -116,56 +114,12 @@ static int check_opts(const act_opts *o, mesh_error *err)
 	return MESH_OK;
 }
 
-static void euler_t1(void *data, const dyn *d, int j, const int lose[2], const int gain[2],
-                     double lbefore)
+/* The family of a scheme. */
+static const act_ops *ops_of(act_scheme s)
 {
-	act *a = data;
-	dyn_counts c;
-	dyn_counts_get(d, &c);
-	if (a->hook)
-		a->hook(a->hook_data, c.t, j, lose, gain, lbefore);
-}
-
-/* A fresh Euler integrator (dynamics.c) at the current state, time and
- * noise stream. */
-static int euler_dyn(act *a, mesh_error *err)
-{
-	const act_opts *o = &a->o;
-	char rng[OU_STATE_LEN] = "";
-	if (a->d) {
-		dyn_rng_get(a->d, rng, sizeof rng);
-		dyn_free(a->d);
-		a->d = NULL;
-	}
-	dyn_opts d;
-	dyn_opts_init(&d);
-	d.mode = DYN_FEEDBACK;
-	d.dt_max = o->dt_max;
-	d.dr_max = o->dr_max;
-	d.t1_length = o->t1_length;
-	d.t1_new = o->t1_new;
-	d.t1_again = o->t1_again;
-	d.split = o->scheme == ACT_SPLIT;
-	d.tau = o->tau;
-	d.sigma = o->sigma;
-	d.gamma0 = o->gamma0;
-	/* the collapse of an active junction is found by the observer; this
-	 * only keeps a passive one from passing through zero */
-	d.l_stop = 1e-12;
-	d.threads = o->threads;
-	d.thread_min = o->thread_min;
-	int st = dyn_alloc(a->m, &a->p, &d, a->seed, &a->d, err);
-	if (st != MESH_OK)
-		return st;
-	if ((a->na < a->m->nj && dyn_set_active(a->d, a->active) != MESH_OK) ||
-	    (rng[0] && dyn_rng_set(a->d, rng) != MESH_OK))
-		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	dyn_set_time(a->d, a->t);
-	dyn_set_t1_hook(a->d, euler_t1, a);
-	a->nt1_base = a->c.nt1;
-	a->refused_base = a->c.nt1_refused;
-	a->again_base = a->c.nt1_again;
-	return MESH_OK;
+	if (act_scheme_rk(s))
+		return &act_rk_ops;
+	return s == ACT_BDF ? &act_bdf_ops : &act_euler_ops;
 }
 
 int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *active,
@@ -211,24 +165,9 @@ int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *a
 		else
 			m->dg[j] = 0;
 	}
-	if (act_scheme_rk(o->scheme)) {
-		a->seed = seed;
-		if ((st = rk_alloc(a, err)) != MESH_OK) {
-			act_free(a);
-			return st;
-		}
-	} else if (o->scheme != ACT_BDF) {
-		a->snap_r = malloc(2 * (size_t)m->nv * sizeof *a->snap_r);
-		a->snap_dg = malloc(nj * sizeof *a->snap_dg);
-		a->jprev = malloc(2 * nj * sizeof *a->jprev);
-		if (!a->snap_r || !a->snap_dg || !a->jprev)
-			goto nomem;
-		a->seed = seed;
-		if ((st = euler_dyn(a, err)) != MESH_OK) {
-			act_free(a);
-			return st;
-		}
-	} else if ((st = bdf_alloc(a, err)) != MESH_OK) {
+	a->seed = seed;
+	a->ops = ops_of(o->scheme);
+	if ((st = a->ops->alloc(a, err)) != MESH_OK) {
 		act_free(a);
 		return st;
 	}
@@ -243,14 +182,10 @@ void act_free(act *a)
 {
 	if (a == NULL)
 		return;
-	dyn_free(a->d);
-	bdf_free(a->b);
-	rk_free(a->k);
+	if (a->ops)
+		a->ops->free(a);
 	free(a->active);
 	free(a->aj);
-	free(a->snap_r);
-	free(a->snap_dg);
-	free(a->jprev);
 	free(a->row_r);
 	free(a->row_grad);
 	free(a->row_dg);
@@ -285,10 +220,8 @@ double act_time_prev(const act *a)
 
 int act_sample(act *a, double t, double *r, double *dg)
 {
-	if (a->b)
-		return bdf_sample(a, t, r, dg);
-	if (a->k)
-		return rk_sample(a, t, r, dg);
+	if (a->ops->sample)
+		return a->ops->sample(a, t, r, dg);
 	const mesh *m = a->m;
 	memcpy(r, m->r, 2 * (size_t)m->nv * sizeof *r);
 	memcpy(dg, m->dg, (size_t)m->nj * sizeof *dg);
@@ -368,10 +301,8 @@ int act_watch(act *a, const int *j, int n)
 
 int act_rng_get(const act *a, char *buf, size_t n)
 {
-	if (a->d)
-		return dyn_rng_get(a->d, buf, n);
-	if (a->k)
-		return rk_rng_get(a->k, buf, n);
+	if (a->ops->rng_get)
+		return a->ops->rng_get(a, buf, n);
 	if (n < 1)
 		return MESH_EDOM;
 	buf[0] = '\0';
@@ -380,297 +311,7 @@ int act_rng_get(const act *a, char *buf, size_t n)
 
 int act_rng_set(act *a, const char *text)
 {
-	if (a->k)
-		return rk_rng_set(a->k, text);
-	if (a->d == NULL || text[0] == '\0')
-		return MESH_OK;
-	return dyn_rng_set(a->d, text);
-}
-
-int act_fresh_get(const act *a, char **text)
-{
-	const mesh *m = a->m;
-	const unsigned char *f = a->d ? dyn_fresh(a->d) : a->k ? rk_fresh(a->k) : NULL;
-	size_t n = 1, len = 0;
-	for (int j = 0; f && j < m->nj; j++)
-		n += f[j] ? 24 : 0;
-	if ((*text = malloc(n)) == NULL)
-		return MESH_ENOMEM;
-	(*text)[0] = '\0';
-	for (int j = 0; f && j < m->nj; j++)
-		if (f[j])
-			len += (size_t)snprintf(*text + len, n - len, len ? " %d %d" : "%d %d",
-			                        m->jv[2 * j], m->jv[2 * j + 1]);
-	return MESH_OK;
-}
-
-int act_fresh_set(act *a, const char *text)
-{
-	mesh *m = a->m;
-	if ((a->d == NULL && a->k == NULL) || text == NULL || text[0] == '\0')
-		return MESH_OK;
-	unsigned char *f = calloc((size_t)(m->nj ? m->nj : 1), 1);
-	mesh_jindex *ix = mesh_jindex_alloc(m);
-	if (f == NULL || ix == NULL) {
-		free(f);
-		mesh_jindex_free(ix);
-		return MESH_ENOMEM;
-	}
-	int st = MESH_OK;
-	for (const char *p = text; *p && st == MESH_OK;) {
-		char *end;
-		long va = strtol(p, &end, 10);
-		const char *q = end;
-		long vb = strtol(q, &end, 10);
-		int j = end == q || va < 0 || vb < 0 || va >= m->nv || vb >= m->nv ? -1 :
-			mesh_jindex_find(ix, m, (int)va, (int)vb);
-		if (j < 0)
-			st = MESH_EINVAL;
-		else
-			f[j] = 1;
-		for (p = end; *p == ' '; p++)
-			;
-	}
-	if (st == MESH_OK && a->d)
-		dyn_set_fresh(a->d, f);
-	else if (st == MESH_OK)
-		rk_set_fresh(a, f);
-	mesh_jindex_free(ix);
-	free(f);
-	return st;
-}
-
-/* ---- Euler ---- */
-
-static int state_finite(const act *a)
-{
-	const mesh *m = a->m;
-	for (int i = 0; i < 2 * m->nv; i++)
-		if (!isfinite(m->r[i]))
-			return 0;
-	for (int k = 0; k < a->na; k++)
-		if (!isfinite(m->dg[a->aj[k]]))
-			return 0;
-	return 1;
-}
-
-static void snapshot(act *a)
-{
-	const mesh *m = a->m;
-	memcpy(a->snap_r, m->r, 2 * (size_t)m->nv * sizeof *m->r);
-	memcpy(a->snap_dg, m->dg, (size_t)m->nj * sizeof *m->dg);
-	a->snap_t = a->t;
-	a->snap_nt1 = a->c.nt1;
-}
-
-/* Back to the last step's state; 0 if a T1 came in between (then the
- * topology no longer fits the saved coordinates). */
-static int restore(act *a)
-{
-	mesh *m = a->m;
-	if (a->snap_nt1 != a->c.nt1)
-		return 0;
-	memcpy(m->r, a->snap_r, 2 * (size_t)m->nv * sizeof *m->r);
-	memcpy(m->dg, a->snap_dg, (size_t)m->nj * sizeof *m->dg);
-	a->t = a->snap_t;
-	return 1;
-}
-
-static int euler_obs(dyn *d, void *data)
-{
-	act *a = data;
-	mesh *m = a->m;
-	dyn_counts c;
-	dyn_counts_get(d, &c);
-	a->tprev = a->t;
-	a->t = c.t;
-	a->c.nstep++;
-	a->c.nfev++;
-	/* the integrator is made again after T1s (canonical): its counts
-	 * start from zero */
-	a->c.nt1 = a->nt1_base + c.nt1;
-	a->c.nt1_refused = a->refused_base + c.nt1_refused;
-	a->c.nt1_again = a->again_base + c.nt1_again;
-	if (a->o.t1_length == 0) {
-		/* the collapse event: the first step at which an active junction
-		 * is shorter than l_collapse; if that step carried it through
-		 * zero (turned over), the state before the step is the end */
-		for (int k = 0; k < a->na; k++) {
-			double v[2];
-			double l = junction_vec_sqrt(m, m->r, a->aj[k], v);
-			int over = a->have_prev && v[0] * a->jprev[2 * k] + v[1] * a->jprev[2 * k + 1] <= 0;
-			if (over || !(l >= a->o.l_collapse)) {
-				if ((over || !(l > 0)) && a->have_prev)
-					restore(a);
-				a->c.jcollapse = a->aj[k];
-				a->why = ACT_END_COLLAPSE;
-				return 1;
-			}
-			a->jprev[2 * k] = v[0];
-			a->jprev[2 * k + 1] = v[1];
-		}
-	}
-	snapshot(a);
-	a->have_prev = 1;
-	if (a->obs && a->obs(a, a->obs_data)) {
-		a->why = ACT_END_STOP;
-		return 1;
-	}
-	return 0;
-}
-
-/* Renumber the junctions as reading the written mesh would (mesh_build
- * from the cells), so that a run continued from that mesh has the same
- * junction numbers, and so the same noise per junction and the same T1
- * order; the active set and tensions follow their vertex pairs. */
-/* The vertex pairs of junctions j[0..n), to find them again after a
- * renumbering; NULL when out of memory. */
-static int *pairs_of(const mesh *m, const int *j, int n)
-{
-	int *p = malloc(2 * (size_t)(n ? n : 1) * sizeof *p);
-	for (int k = 0; p && k < n; k++) {
-		p[2 * k] = m->jv[2 * j[k]];
-		p[2 * k + 1] = m->jv[2 * j[k] + 1];
-	}
-	return p;
-}
-
-static int canonical(act *a, mesh_error *err)
-{
-	mesh *m = a->m;
-	/* the active and the watched junctions by their vertex pairs */
-	int *pairs = pairs_of(m, a->aj, a->na), *wp = pairs_of(m, a->watch, a->nwatch);
-	char *fresh = NULL;
-	if (pairs == NULL || wp == NULL || act_fresh_get(a, &fresh) != MESH_OK) {
-		free(pairs);
-		free(wp);
-		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	}
-	/* on a copy first: a tissue that became invalid (a cell turned
-	 * inside out) is reported, and m keeps its working arrays */
-	mesh_error e2;
-	mesh *c = mesh_copy(m);
-	int st = c ? mesh_build(c, NULL, &e2) : MESH_ENOMEM;
-	mesh_free(c);
-	if (st == MESH_OK)
-		st = mesh_build(m, NULL, &e2);
-	if (st != MESH_OK) {
-		free(pairs);
-		free(fresh);
-		free(wp);
-		if (st == MESH_ENOMEM)
-			return mesh_error_set(err, 0, st, "out of memory");
-		a->why = ACT_END_NONFINITE;
-		mesh_error_set(err, 0, MESH_EDOM, "the tissue became invalid at t = %.6g: %s", a->t, e2.msg);
-		return MESH_OK;
-	}
-	if (mesh_tension_alloc(m) != MESH_OK) {
-		free(pairs);
-		free(fresh);
-		free(wp);
-		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	}
-	mesh_jindex *ix = mesh_jindex_alloc(m);
-	if (ix == NULL) {
-		free(pairs);
-		free(fresh);
-		free(wp);
-		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	}
-	memset(a->active, 0, (size_t)m->nj);
-	for (int k = 0; k < a->na; k++)
-		a->active[mesh_jindex_find(ix, m, pairs[2 * k], pairs[2 * k + 1])] = 1;
-	for (int k = 0; k < a->nwatch; k++)
-		a->watch[k] = mesh_jindex_find(ix, m, wp[2 * k], wp[2 * k + 1]);
-	mesh_jindex_free(ix);
-	free(pairs);
-	free(wp);
-	a->na = 0;
-	for (int j = 0; j < m->nj; j++)
-		if (a->active[j])
-			a->aj[a->na++] = j;
-	if (a->k)
-		rk_set_fresh(a, NULL);
-	else
-		st = euler_dyn(a, err);
-	if (st == MESH_OK && act_fresh_set(a, fresh) != MESH_OK)
-		st = mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	free(fresh);
-	return st;
-}
-
-/* One Euler segment to tseg: a->why says how it ended. */
-static int euler_segment(act *a, double tseg, mesh_error *err)
-{
-	mesh_error e2;
-	int st = dyn_run(a->d, tseg, NULL, euler_obs, a, &e2);
-	if (st == MESH_ENOMEM)
-		return mesh_error_set(err, 0, st, "out of memory");
-	if (st != MESH_OK) {
-		/* non-finite forces (the state before the step is finite in r,
-		 * but its tensions may not be) or a passive junction collapsed */
-		if (state_finite(a) && strstr(e2.msg, "collapsed")) {
-			a->why = ACT_END_COLLAPSE;
-		} else {
-			restore(a);
-			a->why = ACT_END_NONFINITE;
-			mesh_error_set(err, 0, MESH_EDOM, "%s", e2.msg);
-		}
-	}
-	return MESH_OK;
-}
-
-static int rk_segment(act *a, double tseg, mesh_error *err)
-{
-	return rk_run(a, tseg, &a->why, err);
-}
-
-/* The Euler and Runge-Kutta runs go in segments that end at multiples of
- * ACT_CHECKPOINT (the last step of each shortened to land there).  A stop
- * request is honoured at the next one, and with T1s on each begins with
- * the junction numbers of a freshly read mesh and a fresh integrator
- * (Euler's made again, the Runge-Kutta one started afresh from the mesh):
- * what a run continued from the mesh written there does, so that it goes
- * on bit for bit as the uninterrupted run. */
-static int segments(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
-                    mesh_error *err, int (*one)(act *, double, mesh_error *))
-{
-	mesh *m = a->m;
-	a->why = ACT_END_TIME;
-	while (a->t < t_end) {
-		double seg = (floor(a->t / ACT_CHECKPOINT) + 1) * ACT_CHECKPOINT;
-		long nt1 = a->c.nt1;
-		int st = one(a, seg < t_end ? seg : t_end, err);
-		if (st != MESH_OK)
-			return st;
-		if (a->why != ACT_END_TIME)
-			break;
-		mesh_keep_wrapped(m);
-		if (a->c.nt1 != nt1 && (st = canonical(a, err)) != MESH_OK)
-			return st;
-		if (a->why != ACT_END_TIME)
-			break;
-		if (stop && *stop && a->t < t_end) {
-			a->why = ACT_END_STOP;
-			break;
-		}
-	}
-	*why = a->why;
-	return MESH_OK;
-}
-
-static int euler_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
-                     mesh_error *err)
-{
-	mesh *m = a->m;
-	if (!a->have_prev) {
-		mesh_keep_wrapped(m);
-		snapshot(a);
-		for (int k = 0; k < a->na; k++)
-			junction_vec_sqrt(m, m->r, a->aj[k], a->jprev + 2 * k);
-		a->have_prev = 1;
-	}
-	return segments(a, t_end, stop, why, err, euler_segment);
+	return a->ops->rng_set ? a->ops->rng_set(a, text) : MESH_OK;
 }
 
 int act_run(act *a, double t_end, volatile sig_atomic_t *stop, act_observer obs,
@@ -679,13 +320,7 @@ int act_run(act *a, double t_end, volatile sig_atomic_t *stop, act_observer obs,
 	a->obs = obs;
 	a->obs_data = data;
 	err->msg[0] = '\0';
-	if (a->d)
-		return euler_run(a, t_end, stop, why, err);
-	if (a->k) {
-		mesh_keep_wrapped(a->m);
-		return segments(a, t_end, stop, why, err, rk_segment);
-	}
-	return bdf_run(a, t_end, stop, why, err);
+	return a->ops->run(a, t_end, stop, why, err);
 }
 
 /* ---- start state ---- */

@@ -23,11 +23,11 @@
  *              by the block elimination of I - gamma J: the sparse Cholesky
  *              of I + gamma K (K = H + sum_j dg_j grad^2 l_j, the vertex
  *              block of -J) and the Schur complement of the tension block
- *              (bdf.c).  Vertex coordinates are integrated as displacements
+ *              (active_bdf.c).  Vertex coordinates are integrated as displacements
  *              from the start, so that rtol means the same everywhere in
  *              the box.  No noise (sigma must be 0).
  *   ACT_DP5    Dormand-Prince 5(4), explicit, with error control (rtol,
- *   ACT_BS3    as bdf's) and dense output (rk.c); Bogacki-Shampine 3(2)
+ *   ACT_BS3    as bdf's) and dense output (active_rk.c); Bogacki-Shampine 3(2)
  *              the same with fewer stages.  The tension is carried as
  *              w = (gamma0 + dg) l, whose equation has no 1/l term.  T1s,
  *              their re-arming and the collapse are events located on the
@@ -43,7 +43,7 @@
  * with T1s on (t1_length > 0) a junction reaching t1_length is T1'd.  Euler
  * locates them to its step (the step at which the length is first below
  * the threshold), BDF to the root of its interpolant, DP5 and BS3 on
- * their dense output (events.h, rk.c).
+ * their dense output (events.h, active_rk.c).
  *
  * The time lives in the integrator (act_time); a run may start at any t0,
  * so that a run stopped and continued (the mesh's state lines, tis-mesh(5))
@@ -68,11 +68,11 @@ int act_scheme_parse(const char *name, act_scheme *s);
  * bs3): then act_sample gives the state at any time of the last step. */
 int act_scheme_dense(act_scheme s);
 /* Whether the scheme is one of the embedded Runge-Kutta pairs (dp5, bs3:
- * rk.c), which share their options (rtol, ou_dt, t1_rearm) and T1 rule. */
+ * active_rk.c), which share their options (rtol, ou_dt, t1_rearm) and T1 rule. */
 int act_scheme_rk(act_scheme s);
 
 /* Euler and Runge-Kutta runs stop (SIGTERM) and renumber after T1s only
- * at multiples of this time (active.c); the Runge-Kutta schemes start
+ * at multiples of this time (active_checkpoint.c); the Runge-Kutta schemes start
  * afresh there. */
 #define ACT_CHECKPOINT 1.0
 

@@ -228,8 +228,6 @@ dyn_opts *dyn_options(dyn *d);
  * one it replaces).  A junction
  * outside the set keeps dg = 0.  MESH_ENOMEM. */
 int dyn_set_active(dyn *d, const unsigned char *active);
-/* The current set in current junction numbering, or NULL for all. */
-const unsigned char *dyn_active(const dyn *d);
 
 /* The junctions made by a T1 that have not yet been longer than
  * t1_length (nj flags, current numbering; with t1_again 0 only counted),

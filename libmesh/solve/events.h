@@ -1,9 +1,10 @@
 /* events.h - locating events of an integrated trajectory: the first time
  * in a step at which one of several event functions g_i(t) crosses zero
- * in its direction, landed on its far side.  The one event mechanism of
- * the library: the network schemes' T1s and collapse (rk.c, on their
- * dense output) and the adaptive quench's T1s (dynamics.c's explicit
- * steps, gradflow.c's implicit ones) are all found here.
+ * in its direction, landed on its far side.  The Runge-Kutta schemes'
+ * T1s and collapse (active_rk.c, on their dense output) and the adaptive
+ * quench's T1s (quench.c's explicit steps, gradflow.c's implicit ones)
+ * are found here; the bdf scheme's are CVODE's own roots (active_bdf.c),
+ * and the Euler scheme's are its step ends (dyn_t1.c).
  *
  * An integrator that has taken a step [t0, t1] and knows g_i at both ends
  * asks which functions crossed (ev_crossed); for those, ev_root brackets

@@ -9,7 +9,7 @@
 #include "minimize.h"
 
 /* Vector d of junction j (junction_vec) and its squared length, the
- * expression of the T1 test in dynamics.c (the same bits for the same
+ * expression of the T1 test in dyn_t1.c (the same bits for the same
  * coordinates). */
 static double jvec2(const mesh *m, const double *r, int j, double d[2])
 {

@@ -1,4 +1,5 @@
-/* rk.c - explicit embedded Runge-Kutta pairs for active junctions, with
+/* active_rk.c - the dp5 and bs3 schemes of active junctions (active.h):
+ * explicit embedded Runge-Kutta pairs, with
  * error control, located events and the noise on its own time grid.
  *
  * State y = (r, w): the coordinates (2 nv) and, for each of the na active
@@ -39,7 +40,7 @@
  * a start those already below it), and the next step starts from the
  * changed mesh.
  */
-#include "rk.h"
+#include "active_int.h"
 
 #include <float.h>
 #include <math.h>
@@ -48,7 +49,8 @@
 
 #include "events.h"
 #include "noise.h"
-#include "topology.h"
+#include "eq1.h"
+#include "t1rule.h"
 
 #define SMAX 7
 #define H_START 1e-4
@@ -96,6 +98,8 @@ static const double D5[SMAX] = { -12715105075.0 / 11282082432.0, 0,
 
 enum { ARMED, FRESH, REFUSED };
 
+typedef struct rk rk;
+
 struct rk {
 	const tableau *tb;
 	int n2, n;
@@ -126,7 +130,7 @@ struct rk {
  * tensions from w into k->dg. */
 static void tensions(act *a, const double *y, double *dg)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	const mesh *m = a->m;
 	const double g0 = a->o.gamma0;
 	double d[2];
@@ -140,7 +144,7 @@ static void tensions(act *a, const double *y, double *dg)
 
 static int rhs(act *a, const double *y, double *f)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	const mesh *m = a->m;
 	tensions(a, y, k->dg);
 	mesh_energy_tension(m, y, &a->p, k->dg, k->grad, k->ws);
@@ -152,7 +156,7 @@ static int rhs(act *a, const double *y, double *f)
 	const double g0 = a->o.gamma0, rate = 1 / a->o.tau;
 	for (int i = 0; i < a->na; i++) {
 		double l = k->len[i];
-		f[k->n2 + i] = -(y[k->n2 + i] - g0 * l) * rate + l * k->force[i];
+		f[k->n2 + i] = eq1_dwdt(y[k->n2 + i], g0, rate, l, k->force[i]);
 		ok &= isfinite(f[k->n2 + i]);
 	}
 	a->c.nfev++;
@@ -161,7 +165,7 @@ static int rhs(act *a, const double *y, double *f)
 
 static void pack(act *a, double *y)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	const mesh *m = a->m;
 	double d[2];
 	memcpy(y, m->r, (size_t)k->n2 * sizeof *y);
@@ -174,7 +178,7 @@ static void pack(act *a, double *y)
 static void to_mesh(act *a, const double *y)
 {
 	mesh *m = a->m;
-	memcpy(m->r, y, (size_t)a->k->n2 * sizeof *y);
+	memcpy(m->r, y, (size_t)((rk *)a->s)->n2 * sizeof *y);
 	tensions(a, y, m->dg);
 }
 
@@ -205,7 +209,7 @@ static double theta(const rk *k, double t)
  * coordinates into ys). */
 static double dense_length(act *a, int j, double t)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	const mesh *m = a->m;
 	double th = theta(k, t), d[2];
 	int va = m->jv[2 * j], vb = m->jv[2 * j + 1];
@@ -219,7 +223,7 @@ static double dense_length(act *a, int j, double t)
 /* The re-arm length of junction j (0: none). */
 static double rearm_length(const act *a, int j)
 {
-	const rk *k = a->k;
+	const rk *k = a->s;
 	if (k->mode[j] == REFUSED)
 		return a->o.t1_length;
 	if (k->mode[j] == FRESH)
@@ -234,7 +238,7 @@ static double event_g(void *data, int i, double t)
 	act *a = data;
 	int j = i >> 1;
 	double l = dense_length(a, j, t);
-	return l - ((i & 1) ? rearm_length(a, j) : a->k->thr[j]);
+	return l - ((i & 1) ? rearm_length(a, j) : ((rk *)a->s)->thr[j]);
 }
 
 /* The threshold of a junction just made by a T1: t1_again t1_new, or
@@ -246,19 +250,19 @@ static double fresh_threshold(const act *a)
 
 static void arm(act *a, int j)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	k->mode[j] = ARMED;
 	k->fresh[j] = 0;
 	k->thr[j] = a->o.t1_length > 0 ? a->o.t1_length : a->o.l_collapse;
 }
 
-int rk_alloc(act *a, mesh_error *err)
+static int rk_alloc(act *a, mesh_error *err)
 {
 	const mesh *m = a->m;
 	rk *k = calloc(1, sizeof *k);
 	if (k == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	a->k = k;
+	a->s = k;
 	k->tb = a->o.scheme == ACT_BS3 ? &BS3 : &DP5;
 	k->n2 = 2 * m->nv;
 	k->n = k->n2 + a->na;
@@ -292,8 +296,9 @@ int rk_alloc(act *a, mesh_error *err)
 	return MESH_OK;
 }
 
-void rk_free(rk *k)
+static void rk_free(act *a)
 {
+	rk *k = a->s;
 	if (k == NULL)
 		return;
 	double *v[] = { k->y0, k->y1, k->yt, k->ys, k->r0, k->grad, k->dg, k->thr, k->l0,
@@ -311,14 +316,15 @@ void rk_free(rk *k)
 	free(k);
 }
 
-const unsigned char *rk_fresh(const rk *k)
+static const unsigned char *rk_fresh(const act *a)
 {
+	const rk *k = a->s;
 	return k->fresh;
 }
 
-void rk_set_fresh(act *a, const unsigned char *fresh)
+static void rk_set_fresh(act *a, const unsigned char *fresh)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	for (int j = 0; j < a->m->nj; j++) {
 		arm(a, j);
 		if (fresh && fresh[j]) {
@@ -329,8 +335,9 @@ void rk_set_fresh(act *a, const unsigned char *fresh)
 	}
 }
 
-int rk_rng_get(const rk *k, char *buf, size_t n)
+static int rk_rng_get(const act *a, char *buf, size_t n)
 {
+	const rk *k = a->s;
 	if (k->g)
 		return ou_state_get(k->g, buf, n);
 	if (n < 1)
@@ -339,8 +346,9 @@ int rk_rng_get(const rk *k, char *buf, size_t n)
 	return MESH_OK;
 }
 
-int rk_rng_set(rk *k, const char *text)
+static int rk_rng_set(act *a, const char *text)
 {
+	rk *k = a->s;
 	if (k->g == NULL || text[0] == '\0')
 		return MESH_OK;
 	return ou_state_set(k->g, text);
@@ -361,7 +369,7 @@ static void lengths(const act *a, const double *r, double *l)
 /* A fresh start at the mesh's state and time: y0, f(y0), the lengths. */
 static int start(act *a)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	pack(a, k->y0);
 	k->have_step = 0;
 	a->tprev = a->t;
@@ -373,7 +381,7 @@ static int start(act *a)
 
 static void draw(act *a)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	const double h = 1 / k->ncell, tau = a->o.tau;
 	const double amp = a->o.sigma * sqrt(-expm1(-2 * h / tau)) / (tau * -expm1(-h / tau));
 	for (int i = 0; i < a->na; i++)
@@ -384,7 +392,7 @@ static void draw(act *a)
  * norm (INFINITY if a stage was not finite). */
 static double trial(act *a, double h)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	const tableau *tb = k->tb;
 	const int n = k->n, n2 = k->n2;
 	for (int s = 1; s < tb->s; s++) {
@@ -423,7 +431,7 @@ static double trial(act *a, double h)
  * T1'd junction jump).  Returns the number done. */
 static int t1s(act *a, mesh_error *err)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	mesh *m = a->m;
 	int done = 0;
 	for (;;) {
@@ -431,17 +439,15 @@ static int t1s(act *a, mesh_error *err)
 		double lb = INFINITY, d[2];
 		for (int j = 0; j < m->nj; j++) {
 			double l = junction_vec_sqrt(m, m->r, j, d);
-			if (l < k->thr[j] && l < lb) {
+			if (l < k->thr[j] && t1_first(l, j, lb, best)) {
 				lb = l;
 				best = j;
 			}
 		}
 		if (best < 0)
 			return done;
-		int lose[2] = { m->jc[2 * best], m->jc[2 * best + 1] };
-		int touched[5];
-		mesh_error e2;
-		int st = mesh_t1_touch(m, best, a->o.t1_new, touched, &e2);
+		int lose[2], touched[5];
+		int st = t1_do(m, best, a->o.t1_new, lose, touched);
 		if (st == MESH_ENOMEM) {
 			mesh_error_set(err, 0, st, "out of memory");
 			return -1;
@@ -471,7 +477,7 @@ static int t1s(act *a, mesh_error *err)
  * there (*tev, 1 returned), the state at it in the mesh. */
 static int step_events(act *a, double t1, double *tev)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	const mesh *m = a->m;
 	const int t1on = a->o.t1_length > 0, nj = t1on ? m->nj : a->na;
 	const double ttol = 4 * DBL_EPSILON * fabs(t1);
@@ -521,9 +527,13 @@ static int step_events(act *a, double t1, double *tev)
 	}
 }
 
-int rk_run(act *a, double t_seg, act_end *why, mesh_error *err)
+/* One segment to t_seg (a checkpoint or the end) or an event: the
+ * integrator starts afresh from the mesh's state (what a run read from
+ * the mesh written there does). */
+static int rk_segment(act *a, double t_seg, mesh_error *err)
 {
-	rk *k = a->k;
+	act_end *why = &a->why;
+	rk *k = a->s;
 	const tableau *tb = k->tb;
 	*why = ACT_END_TIME;
 	if (k->failed) {
@@ -651,9 +661,9 @@ nonfinite:
 	return MESH_OK;
 }
 
-int rk_sample(act *a, double t, double *r, double *dg)
+static int rk_sample(act *a, double t, double *r, double *dg)
 {
-	rk *k = a->k;
+	rk *k = a->s;
 	const mesh *m = a->m;
 	if (!k->have_step || t >= a->t || t < a->tprev) {
 		memcpy(r, m->r, (size_t)k->n2 * sizeof *r);
@@ -668,3 +678,24 @@ int rk_sample(act *a, double t, double *r, double *dg)
 	tensions(a, k->ys, dg);
 	return MESH_OK;
 }
+
+static int rk_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why,
+                  mesh_error *err)
+{
+	mesh_keep_wrapped(a->m);
+	return act_segments(a, t_end, stop, why, err);
+}
+
+/* The junctions were renumbered: every one armed, as a read mesh's. */
+static int rk_renumbered(act *a, mesh_error *err)
+{
+	(void)err;
+	rk_set_fresh(a, NULL);
+	return MESH_OK;
+}
+
+const act_ops act_rk_ops = {
+	.alloc = rk_alloc, .free = rk_free, .run = rk_run, .segment = rk_segment,
+	.sample = rk_sample, .rng_get = rk_rng_get, .rng_set = rk_rng_set,
+	.fresh = rk_fresh, .set_fresh = rk_set_fresh, .renumbered = rk_renumbered
+};

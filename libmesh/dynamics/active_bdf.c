@@ -1,4 +1,5 @@
-/* bdf.c - the stiff scheme for active junctions: SUNDIALS CVODE (BDF,
+/* active_bdf.c - the bdf scheme of active junctions (active.h), the stiff
+ * one: SUNDIALS CVODE (BDF,
  * orders 1-5, Newton-GMRES) with a preconditioner that is the exact
  * Newton matrix M = I - gamma J up to the rounding of its Cholesky factor.
  *
@@ -21,7 +22,7 @@
  * crossings only).  After a T1 the integrator restarts (CVodeReInit) and
  * the Hessian pattern and its ordering are made again.
  */
-#include "bdf.h"
+#include "active_int.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -33,10 +34,13 @@
 
 #include "hessian.h"
 #include "sparse.h"
-#include "topology.h"
+#include "eq1.h"
+#include "t1rule.h"
 
 #define SCHUR_MAX 32
 #define GMRES_MAXL 10
+
+typedef struct bdf bdf;
 
 struct bdf {
 	SUNContext ctx;
@@ -75,7 +79,7 @@ struct bdf {
 /* Coordinates and tensions of state y into b->r and b->dg. */
 static void unpack(const act *a, const double *y, double *r, double *dg)
 {
-	const bdf *b = a->b;
+	const bdf *b = a->s;
 	for (int i = 0; i < b->n2; i++)
 		r[i] = b->r0[i] + y[i];
 	for (int k = 0; k < a->na; k++)
@@ -84,7 +88,7 @@ static void unpack(const act *a, const double *y, double *r, double *dg)
 
 static void pack(const act *a, double *y)
 {
-	const bdf *b = a->b;
+	const bdf *b = a->s;
 	const mesh *m = a->m;
 	for (int i = 0; i < b->n2; i++)
 		y[i] = m->r[i] - b->r0[i];
@@ -96,7 +100,7 @@ static int rhs(realtype t, N_Vector yv, N_Vector ydotv, void *data)
 {
 	(void)t;
 	act *a = data;
-	bdf *b = a->b;
+	bdf *b = a->s;
 	const mesh *m = a->m;
 	const double *y = N_VGetArrayPointer(yv);
 	double *yd = N_VGetArrayPointer(ydotv);
@@ -112,9 +116,8 @@ static int rhs(realtype t, N_Vector yv, N_Vector ydotv, void *data)
 		int j = a->aj[k], va = m->jv[2 * j], vb = m->jv[2 * j + 1];
 		double d[2];
 		double l = junction_vec_sqrt(m, b->r, j, d);
-		double ldot = (d[0] * (yd[2 * vb] - yd[2 * va]) + d[1] * (yd[2 * vb + 1] - yd[2 * va + 1])) / l;
-		double s = y[b->n2 + k];
-		yd[b->n2 + k] = -s * rate - (g0 + s) * ldot / l;
+		double ldot = eq1_dot(d, yd, va, vb) / l;
+		yd[b->n2 + k] = eq1_dgdt(y[b->n2 + k], g0, rate, ldot, l);
 		ok &= isfinite(yd[b->n2 + k]);
 	}
 	a->c.nfev++;
@@ -125,7 +128,7 @@ static int roots(realtype t, N_Vector yv, realtype *gout, void *data)
 {
 	(void)t;
 	act *a = data;
-	bdf *b = a->b;
+	bdf *b = a->s;
 	const mesh *m = a->m;
 	const double *y = N_VGetArrayPointer(yv);
 	unpack(a, y, b->r, b->dg);
@@ -159,7 +162,7 @@ static double ldot_sparse(const double e[2], const double *f, int va, int vb)
  * there); without the Schur complement only K and E's diagonal. */
 static void jacobian(act *a, const double *y, const double *f)
 {
-	bdf *b = a->b;
+	bdf *b = a->s;
 	const mesh *m = a->m;
 	spsym *h = b->hs->h;
 	unpack(a, y, b->r, b->dg);
@@ -285,7 +288,7 @@ static int psetup(realtype t, N_Vector yv, N_Vector fy, booleantype jok, boolean
 {
 	(void)t;
 	act *a = data;
-	bdf *b = a->b;
+	bdf *b = a->s;
 	if (!jok) {
 		jacobian(a, N_VGetArrayPointer(yv), N_VGetArrayPointer(fy));
 		*jcur = SUNTRUE;
@@ -330,7 +333,7 @@ static int psolve(realtype t, N_Vector yv, N_Vector fy, N_Vector rv, N_Vector zv
 {
 	(void)t; (void)yv; (void)fy; (void)delta; (void)lr;
 	act *a = data;
-	bdf *b = a->b;
+	bdf *b = a->s;
 	const double *rr = N_VGetArrayPointer(rv);
 	double *z = N_VGetArrayPointer(zv);
 	const int na = a->na, n2 = b->n2;
@@ -361,7 +364,7 @@ static int psolve(realtype t, N_Vector yv, N_Vector fy, N_Vector rv, N_Vector zv
  * again after every T1. */
 static int pattern(act *a)
 {
-	bdf *b = a->b;
+	bdf *b = a->s;
 	hessian_sparse_free(b->hs);
 	spchol_free(b->chol);
 	spsym_free(b->amat);
@@ -390,13 +393,13 @@ static void quiet(int code, const char *module, const char *fn, char *msg, void 
 	(void)code; (void)module; (void)fn; (void)msg; (void)data;
 }
 
-int bdf_alloc(act *a, mesh_error *err)
+static int bdf_alloc(act *a, mesh_error *err)
 {
 	const mesh *m = a->m;
 	bdf *b = calloc(1, sizeof *b);
 	if (b == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	a->b = b;
+	a->s = b;
 	const int na = a->na;
 	b->n2 = 2 * m->nv;
 	b->n = b->n2 + na;
@@ -451,8 +454,9 @@ int bdf_alloc(act *a, mesh_error *err)
 	return MESH_OK;
 }
 
-void bdf_free(bdf *b)
+static void bdf_free(act *a)
 {
+	bdf *b = a->s;
 	if (b == NULL)
 		return;
 	if (b->cv)
@@ -497,7 +501,7 @@ static void to_mesh(act *a, const double *y)
  * so that it is tried again if it keeps shrinking. */
 static int bdf_t1s(act *a, mesh_error *err)
 {
-	bdf *b = a->b;
+	bdf *b = a->s;
 	mesh *m = a->m;
 	for (;;) {
 		int best = -1;
@@ -505,7 +509,7 @@ static int bdf_t1s(act *a, mesh_error *err)
 		for (int j = 0; j < m->nj; j++)
 			if (b->rootsfound[j]) {
 				double l = junction_length(m, m->r, j);
-				if (l < lb) {
+				if (t1_first(l, j, lb, best)) {
 					lb = l;
 					best = j;
 				}
@@ -513,10 +517,8 @@ static int bdf_t1s(act *a, mesh_error *err)
 		if (best < 0)
 			break;
 		b->rootsfound[best] = 0;
-		int lose[2] = { m->jc[2 * best], m->jc[2 * best + 1] };
-		int touched[5];
-		mesh_error e2;
-		int st = mesh_t1_touch(m, best, a->o.t1_new, touched, &e2);
+		int lose[2], touched[5];
+		int st = t1_do(m, best, a->o.t1_new, lose, touched);
 		if (st == MESH_ENOMEM)
 			return mesh_error_set(err, 0, st, "out of memory");
 		if (st != MESH_OK) {
@@ -546,7 +548,7 @@ static int bdf_t1s(act *a, mesh_error *err)
  * from it: what bdf_alloc makes of a mesh that was read. */
 static int restart(act *a)
 {
-	bdf *b = a->b;
+	bdf *b = a->s;
 	memcpy(b->r0, a->m->r, (size_t)b->n2 * sizeof *b->r0);
 	pack(a, N_VGetArrayPointer(b->y));
 	if (CVodeReInit(b->cv, a->t, b->y) != CV_SUCCESS)
@@ -555,9 +557,9 @@ static int restart(act *a)
 	return MESH_OK;
 }
 
-int bdf_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why, mesh_error *err)
+static int bdf_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why, mesh_error *err)
 {
-	bdf *b = a->b;
+	bdf *b = a->s;
 	double *y = N_VGetArrayPointer(b->y);
 	*why = ACT_END_TIME;
 	if (b->failed) {
@@ -632,9 +634,9 @@ int bdf_run(act *a, double t_end, volatile sig_atomic_t *stop, act_end *why, mes
 	return MESH_OK;
 }
 
-int bdf_sample(act *a, double t, double *r, double *dg)
+static int bdf_sample(act *a, double t, double *r, double *dg)
 {
-	bdf *b = a->b;
+	bdf *b = a->s;
 	const mesh *m = a->m;
 	if (t >= a->t || t < a->tprev || b->need_init) {
 		memcpy(r, m->r, (size_t)b->n2 * sizeof *r);
@@ -647,3 +649,9 @@ int bdf_sample(act *a, double t, double *r, double *dg)
 	unpack(a, N_VGetArrayPointer(b->yq), r, dg);
 	return MESH_OK;
 }
+
+const act_ops act_bdf_ops = {
+	.alloc = bdf_alloc, .free = bdf_free, .run = bdf_run, .segment = NULL,
+	.sample = bdf_sample, .rng_get = NULL, .rng_set = NULL,
+	.fresh = NULL, .set_fresh = NULL, .renumbered = NULL
+};
