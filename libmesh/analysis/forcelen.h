@@ -2,7 +2,8 @@
  *
  * For junction j = (a, b) the length is held exactly, not by a penalty:
  * r_b is written as r_a + l (cos t, sin t) (minus the junction's periodic
- * image offset) and W is minimized over every other vertex, r_a and t.  At
+ * image offset) and W is minimized over every other vertex, r_a and t
+ * (relax.h, relax_hold: the problem; this file: the sweeps).  At
  * that constrained minimum the restoring force is
  *
  *   f(l) = (grad_a W - grad_b W) . e = -2 dW/dl,   e = (cos t, sin t)
@@ -25,6 +26,7 @@
 
 #include "energy.h"
 #include "mesh.h"
+#include "linresp.h"
 #include "minimize.h"
 
 enum fl_dir {
@@ -58,7 +60,7 @@ typedef struct {
  * built at the rest state and rebuilt only when CG needs more than
  * min.pcmaxit iterations with it (at the next Newton step, or at the
  * solution of a point that converged in one); a sweep keeps the factors
- * it builds (fl_work, up to 32 and 32 MB) and a return leg switches to
+ * it builds (relax.h: up to 32 and 32 MB) and a return leg switches to
  * the one built nearest its held length.  min.pcsetup and pcapply are
  * ignored. */
 void fl_opts_init(fl_opts *o);
@@ -77,8 +79,9 @@ typedef struct {
 } fl_point;
 
 /* Work space for sweeps on one mesh (and meshes of the same counts): owns
- * the energy work space and the coordinate arrays.  One per thread; the
- * mesh itself is only read, so threads may share it. */
+ * the held-length problem (relax.h) and the sweep's copies of its
+ * variables.  One per thread; the mesh itself is only read, so threads
+ * may share it. */
 typedef struct fl_work fl_work;
 fl_work *fl_work_alloc(const mesh *m);
 void fl_work_free(fl_work *w);
@@ -96,96 +99,6 @@ int fl_npoints(const mesh *m, int j, const fl_opts *o);
 int fl_sweep(const mesh *m, const model *p, int j, const fl_opts *o,
              fl_work *w, fl_point *pts, int *npts,
              const volatile sig_atomic_t *stop);
-
-/* The restoring force of junction j at coordinates r: (grad_a W -
- * grad_b W) . e, for any r (at a constrained minimum it is f(l)).  grad is
- * 2*nv scratch. */
-double fl_force(const mesh *m, const double *r, const model *p, int j,
-                double *grad, energy_ws *ws);
-
-/* Exact linear response at the rest state (doc/DESIGN.md):
- *
- *   a1 = f'(l0) = -2 / (g^T H^+ g),   g = grad l (4 nonzero entries),
- *
- * H the Hessian of W at m->r and H^+ its pseudo-inverse on the modes with
- * |eigenvalue| > zerotol * largest.  If g has weight above 1e-10 on the
- * zero modes beyond the two translations, the length can change at no
- * cost to second order and a1 = 0 (a floppy junction).  The answer means
- * something only at a force-balanced state with no negative modes: nneg
- * reports those.  Two methods give the same answer:
- *
- * FL_LIN_DENSE: one symmetric eigendecomposition (LAPACK dsyevd,
- * mesh_hessian_eigen; O(nv^3): about 0.3 s for 648 vertices) serves every
- * junction.  Its memory grows as nv^2: fl_linear_bytes (its peak:
- * mesh_hessian_eigen_bytes and the modes' kinds, 24 n^2 + 80 n + 20
- * bytes, n = 2 nv).  The caller must have turned off GSL's aborting error
- * handler.
- *
- * FL_LIN_SPARSE: LDL^T factorizations of the sparse Hessian, inertia
- * counts and forward solves (linresp.h, which says why it matches the
- * dense path); memory about linear in nv.
- *
- * FL_LIN_AUTO: sparse, which is the faster at every size measured (8 to
- * 2592 vertices, where both ran: 0.080 against 0.098 ms of CPU on 8, 68
- * against 620 ms on 648, 0.7-2.3 against 25-32 s on 2592; no crossover,
- * bench/RESULTS.md, tis-forcelen).
- * Where it cannot certify its answer (eigenvalues within a factor 10 of
- * the zero cut, or a factorization that fails: a mesh not at rest, or at
- * a rigidity transition) the dense path decides by the cut itself, and on
- * up to FL_LIN_DENSE_MAXNV vertices (0.6 s of dense work) auto falls back
- * to it.
- *
- * fl_linear_alloc refuses, before it allocates, with MESH_ETOOBIG if the
- * method's memory is more than max_bytes (INFINITY: no limit; the sparse
- * method knows it after its symbolic analysis) and with MESH_EDOM if the
- * mesh is too large for dsyevd (mesh_hessian_eigen_check);
- * fl_linear_fits says the same first for the dense method,
- * fl_linear_fits_method for any (for the sparse one it has nothing to
- * check before the analysis). */
-enum fl_lin_method { FL_LIN_AUTO, FL_LIN_DENSE, FL_LIN_SPARSE };
-#define FL_LIN_DENSE_MAXNV 648
-
-/* "auto", "dense", "sparse" (NULL for another method), and back:
- * MESH_OK or MESH_EDOM. */
-const char *fl_linear_method_name(int method);
-int fl_linear_method_parse(const char *name, int *method);
-
-typedef struct fl_linear fl_linear;
-double fl_linear_bytes(const mesh *m);
-int fl_linear_fits(const mesh *m, double max_bytes, mesh_error *err);
-int fl_linear_fits_method(const mesh *m, int method, double max_bytes, mesh_error *err);
-/* fl_linear_alloc: the dense method; fl_linear_alloc_method: any. */
-int fl_linear_alloc(const mesh *m, const model *p, double zerotol, double max_bytes,
-                    fl_linear **out, mesh_error *err);
-int fl_linear_alloc_method(const mesh *m, const model *p, double zerotol, int method,
-                           double max_bytes, fl_linear **out, mesh_error *err);
-void fl_linear_free(fl_linear *lr);
-
-typedef struct {
-	double a1;
-	double gHg;      /* g^T H^+ g (sparse: NAN for a floppy junction) */
-	double gnull;    /* |g|^2 on the zero modes (translations excluded) */
-	int nzero;       /* zero modes of H besides the two translations */
-	int nneg;        /* negative modes */
-	int sure;        /* 1: a1 = 0 or not is the dense cut's (always on the
-	                    dense path); 0: the sparse method could not
-	                    certify it (linresp.h) */
-} fl_lin_result;
-
-/* The linear response of junction j of the mesh lr was made from.  The
- * sparse method solves in lr's scratch: one thread at a time.  MESH_OK,
- * MESH_EDOM for a bad j, MESH_ENOMEM. */
-int fl_linear_a1(fl_linear *lr, const mesh *m, int j, fl_lin_result *res);
-
-/* What the linear response of a mesh was made with: the method, and for
- * the sparse one the eigenvalues within a factor of the zero cut that
- * spoil its certainty (nwindow: -1 when it needs no gap, linresp.h). */
-typedef struct {
-	int method;
-	int nzero, nneg;
-	int nwindow;
-} fl_lin_summary;
-void fl_linear_summary(const fl_linear *lr, fl_lin_summary *s);
 
 /* ---- what tis-forcelen does with a mesh (forcelen_job.c) ---- */
 

@@ -1,6 +1,8 @@
 /* linresp.c - the exact linear response from sparse LDL^T factorizations
- * (linresp.h has the method and why it matches the dense path). */
+ * (linresp.h has the method and why it matches the dense path), and the
+ * dispatch between it and the dense eigendecomposition (fl_linear). */
 #include "linresp.h"
+#include "geom.h"
 #include "hessian.h"
 #include "ldl.h"
 
@@ -372,5 +374,240 @@ int linresp_a1(linresp *lr, const mesh *m, int j, linresp_result *res)
 	/* each of the 2k terms counts a zero mode's weight about once, over t */
 	res->gHg = neum - 2 * k * gk / t;
 	res->a1 = -2.0 / res->gHg;
+	return MESH_OK;
+}
+
+/* ---- the dispatch between the dense and the sparse method ---- */
+
+struct fl_linear {
+	int method;       /* FL_LIN_DENSE or FL_LIN_SPARSE */
+	linresp *sp;      /* the sparse method's */
+	int n;
+	double *lam;      /* n eigenvalues */
+	double *u;        /* n x n eigenvectors, column k is mode k (row-major) */
+	int *kind;        /* per mode: 0 regular, 1 zero, 2 translation */
+	double tol;       /* |lambda| <= tol counts as zero */
+	int nzero, nneg;
+};
+
+/* Weight of g on the zero modes above which a junction is floppy: |g|^2
+ * = 2, so this is rounding. */
+#define FL_GNULL_MIN 1e-10
+
+void fl_linear_free(fl_linear *lr)
+{
+	if (lr == NULL)
+		return;
+	linresp_free(lr->sp);
+	free(lr->lam);
+	free(lr->u);
+	free(lr->kind);
+	free(lr);
+}
+
+static int lin_fail(mesh_error *err, int st, const char *msg)
+{
+	if (err) {
+		err->line = 0;
+		snprintf(err->msg, sizeof err->msg, "%s", msg);
+	}
+	return st;
+}
+
+static const char *const lin_names[] = { "auto", "dense", "sparse" };
+
+const char *fl_linear_method_name(int method)
+{
+	return method >= FL_LIN_AUTO && method <= FL_LIN_SPARSE ? lin_names[method] : NULL;
+}
+
+int fl_linear_method_parse(const char *name, int *method)
+{
+	for (int k = FL_LIN_AUTO; k <= FL_LIN_SPARSE; k++)
+		if (strcmp(name, lin_names[k]) == 0) {
+			*method = k;
+			return MESH_OK;
+		}
+	return MESH_EDOM;
+}
+
+double fl_linear_bytes(const mesh *m)
+{
+	return mesh_hessian_eigen_bytes(m->nv, HESS_EIG_LAPACK) + 4 * (2.0 * m->nv);
+}
+
+int fl_linear_fits(const mesh *m, double max_bytes, mesh_error *err)
+{
+	int st = mesh_memory_check(m, fl_linear_bytes(m), max_bytes,
+	                           "the exact linear response (a dense hessian decomposition)", err);
+	return st == MESH_OK ? mesh_hessian_eigen_check(m, HESS_EIG_LAPACK, err) : st;
+}
+
+int fl_linear_fits_method(const mesh *m, int method, double max_bytes, mesh_error *err)
+{
+	if (fl_linear_method_name(method) == NULL)
+		return lin_fail(err, MESH_EDOM, "unknown linear response method");
+	return method == FL_LIN_DENSE ? fl_linear_fits(m, max_bytes, err) : MESH_OK;
+}
+
+/* Whether auto may fall back to the dense decomposition of m. */
+static int dense_cheap(const mesh *m, double max_bytes)
+{
+	return m->nv <= FL_LIN_DENSE_MAXNV && fl_linear_fits(m, max_bytes, NULL) == MESH_OK;
+}
+
+int fl_linear_alloc_method(const mesh *m, const model *p, double zerotol, int method,
+                           double max_bytes, fl_linear **out, mesh_error *err)
+{
+	*out = NULL;
+	if (fl_linear_method_name(method) == NULL)
+		return lin_fail(err, MESH_EDOM, "unknown linear response method");
+	if (method == FL_LIN_DENSE)
+		return fl_linear_alloc(m, p, zerotol, max_bytes, out, err);
+	if (!(zerotol > 0) || !(zerotol < 1))
+		return lin_fail(err, MESH_EDOM, "zero-mode tolerance must be in (0, 1) on the sparse path");
+	fl_linear *lr = calloc(1, sizeof *lr);
+	if (lr == NULL)
+		return lin_fail(err, MESH_ENOMEM, "out of memory");
+	lr->method = FL_LIN_SPARSE;
+	lr->n = 2 * m->nv;
+	int st = linresp_alloc(m, p, zerotol, FL_GNULL_MIN, max_bytes, &lr->sp, err);
+	linresp_info in = { .nwindow = -1 };
+	if (st == MESH_OK)
+		linresp_get_info(lr->sp, &in);
+	if (method == FL_LIN_AUTO && (st == MESH_ENOCONV || in.nwindow > 0) &&
+	    dense_cheap(m, max_bytes)) {
+		fl_linear_free(lr);
+		return fl_linear_alloc(m, p, zerotol, max_bytes, out, err);
+	}
+	if (st != MESH_OK) {
+		fl_linear_free(lr);
+		return st;
+	}
+	lr->nzero = in.nzero;
+	lr->nneg = in.nneg;
+	*out = lr;
+	return MESH_OK;
+}
+
+void fl_linear_summary(const fl_linear *lr, fl_lin_summary *s)
+{
+	*s = (fl_lin_summary){ .method = lr->method, .nzero = lr->nzero, .nneg = lr->nneg,
+	                       .nwindow = -1 };
+	if (lr->sp) {
+		linresp_info in;
+		linresp_get_info(lr->sp, &in);
+		s->nwindow = in.nwindow;
+	}
+}
+
+int fl_linear_alloc(const mesh *m, const model *p, double zerotol, double max_bytes,
+                    fl_linear **out, mesh_error *err)
+{
+	*out = NULL;
+	if (!(zerotol >= 0) || !(zerotol < 1))
+		return lin_fail(err, MESH_EDOM, "zero-mode tolerance must be in [0, 1)");
+	int fit = fl_linear_fits(m, max_bytes, err);
+	if (fit != MESH_OK)
+		return fit;
+	int n = 2 * m->nv;
+	fl_linear *lr = calloc(1, sizeof *lr);
+	if (lr) {
+		lr->n = n;
+		lr->method = FL_LIN_DENSE;
+		lr->lam = malloc(((size_t)n + 1) * sizeof *lr->lam);
+		lr->u = malloc(((size_t)n * n + 1) * sizeof *lr->u);
+		lr->kind = malloc(((size_t)n + 1) * sizeof *lr->kind);
+	}
+	int st = MESH_OK;
+	if (!lr || !lr->lam || !lr->u || !lr->kind) {
+		st = lin_fail(err, MESH_ENOMEM, "out of memory");
+		goto done;
+	}
+	st = mesh_hessian_eigen(m, m->r, p, HESS_EIG_LAPACK, lr->lam, lr->u);
+	if (st != MESH_OK) {
+		st = lin_fail(err, st == MESH_ENOMEM ? MESH_ENOMEM : MESH_ENOCONV,
+		              st == MESH_ENOMEM ? "out of memory"
+		                                : "eigendecomposition of the hessian failed");
+		goto done;
+	}
+	double lmax = 0;
+	for (int k = 0; k < n; k++)
+		if (fabs(lr->lam[k]) > lmax)
+			lmax = fabs(lr->lam[k]);
+	lr->tol = zerotol * lmax;
+	/* Translations are zero modes by construction; in a degenerate zero
+	 * space the solver returns some basis of it, so they are identified by
+	 * overlap: the two zero modes with the largest weight on the uniform
+	 * shifts are the translations, the others are genuine (floppy). */
+	double *tw = malloc(((size_t)n + 1) * sizeof *tw);
+	if (tw == NULL) {
+		st = lin_fail(err, MESH_ENOMEM, "out of memory");
+		goto done;
+	}
+	for (int k = 0; k < n; k++) {
+		double sx = 0, sy = 0;
+		for (int v = 0; v < m->nv; v++) {
+			sx += lr->u[(size_t)(2 * v) * n + k];
+			sy += lr->u[(size_t)(2 * v + 1) * n + k];
+		}
+		tw[k] = (sx * sx + sy * sy) / m->nv;
+		lr->kind[k] = fabs(lr->lam[k]) <= lr->tol ? 1 : 0;
+		if (lr->lam[k] < -lr->tol)
+			lr->nneg++;
+	}
+	for (int t = 0; t < 2; t++) {
+		int best = -1;
+		for (int k = 0; k < n; k++)
+			if (lr->kind[k] != 2 && (best < 0 || tw[k] > tw[best]))
+				best = k;
+		if (best >= 0)
+			lr->kind[best] = 2;
+	}
+	free(tw);
+	for (int k = 0; k < n; k++)
+		lr->nzero += lr->kind[k] == 1;
+done:
+	if (st != MESH_OK)
+		fl_linear_free(lr);
+	else
+		*out = lr;
+	return st;
+}
+
+int fl_linear_a1(fl_linear *lr, const mesh *m, int j, fl_lin_result *res)
+{
+	if (j < 0 || j >= m->nj || 2 * m->nv != lr->n)
+		return MESH_EDOM;
+	if (lr->sp) {
+		linresp_result r;
+		int st = linresp_a1(lr->sp, m, j, &r);
+		if (st != MESH_OK)
+			return st;
+		*res = (fl_lin_result){ .a1 = r.a1, .gHg = r.gHg, .gnull = r.gnull,
+		                        .nzero = lr->nzero, .nneg = lr->nneg, .sure = r.sure };
+		return MESH_OK;
+	}
+	double d[2];
+	double l = junction_vec(m, m->r, j, d);
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1], n = lr->n;
+	double ex = d[0] / l, ey = d[1] / l;
+	const double *ua = lr->u + (size_t)(2 * a) * n, *ua1 = ua + n;
+	const double *ub = lr->u + (size_t)(2 * b) * n, *ub1 = ub + n;
+	double ghg = 0, gnull = 0;
+	for (int k = 0; k < n; k++) {
+		/* b_k = U^T g with g_a = -e, g_b = +e */
+		double bk = ex * (ub[k] - ua[k]) + ey * (ub1[k] - ua1[k]);
+		if (lr->kind[k] == 0)
+			ghg += bk * bk / lr->lam[k];
+		else if (lr->kind[k] == 1)
+			gnull += bk * bk;
+	}
+	res->gHg = ghg;
+	res->gnull = gnull;
+	res->nzero = lr->nzero;
+	res->nneg = lr->nneg;
+	res->sure = 1;
+	res->a1 = gnull > FL_GNULL_MIN ? 0.0 : -2.0 / ghg;
 	return MESH_OK;
 }

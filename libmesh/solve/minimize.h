@@ -1,8 +1,8 @@
 /* minimize.h - energy minimization at fixed topology.
  *
  * min_run() minimizes any smooth function of n variables with its gradient
- * (the relaxation of a mesh, or the constrained sweeps of tis-forcelen that
- * hold one junction's length by a parametrization).  Convergence is judged
+ * (the tissue's problems, all vertices free or one junction's length held,
+ * are relax.h's).  Convergence is judged
  * on forces (the gradient), never on energy change alone: minimizers whose
  * line search compares energies stall at rounding level, long before the
  * forces are small (see doc/DESIGN.md, "Numerical traps").
@@ -14,7 +14,9 @@
 
 #include "energy.h"
 #include "mesh.h"
-#include "precond.h"
+/* mesh_relax, the tissue as this minimizer's problem, for the users of
+ * this header */
+#include "relax.h"
 
 typedef enum {
 	MIN_LBFGS,       /* NLopt L-BFGS (restarted while it makes progress) */
@@ -53,7 +55,7 @@ typedef enum { MIN_PC_AUTO, MIN_PC_CHOLESKY, MIN_PC_SCHWARZ } min_pckind;
 #define MIN_PC_OVERLAP 2
 #define MIN_PC_COARSE 6.0  /* coarse grid spacing, in cell lengths */
 
-typedef struct {
+typedef struct min_opts {
 	min_algo algo;
 	double ftol;       /* converged when the force measure <= ftol */
 	long maxeval;      /* at most this many objective evaluations */
@@ -113,7 +115,7 @@ typedef struct {
 	                      (0: ENERGY_PAR_NV) */
 } min_opts;
 
-typedef struct {
+typedef struct min_report {
 	long neval;        /* objective evaluations */
 	long niter;        /* iterations, as the method counts them */
 	double f0, f;      /* initial and final objective */
@@ -143,31 +145,5 @@ int min_algo_parse(const char *name, min_algo *a);
  * says how far it got), MESH_ENOMEM, MESH_EDOM for bad options. */
 int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
             min_report *rep);
-
-/* Relax all vertex positions of m to the nearest minimum of W at p, with
- * the analytic Hessian for Newton steps (o->hessvec is ignored) and, unless
- * o->precond is 0, CG preconditioned by a shifted sparse Cholesky
- * factorization of the exact Hessian or, above MIN_PC_FULL_NV vertices,
- * by two-level Schwarz on factored patches (o->pckind; o->pcsetup and
- * pcapply are ignored).
- * Never returns a worse point than the start: not a higher energy, and not
- * a higher max force at an energy equal to rounding (1e-13 (1 + |W|)).  The
- * topology is unchanged; coordinates are wrapped into the box at the end.
- * Status as min_run, and MESH_EINVAL (m unchanged) if the result would have
- * a cell of non-positive area. */
-int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep);
-
-/* The coarse level of mesh_relax's Schwarz preconditioner: the bilinear
- * hat functions of a periodic grid over m's box, spacing about `spacing`
- * cell lengths (sqrt of the mean cell area; at least 2 x 2 nodes), one
- * element per grid square and component (nodes 2 g + c, c = 0 for x, 1
- * for y), for the vertex positions x.  g owns the arrays co points to. */
-typedef struct {
-	pccoarse co;
-	int *node, *elem;
-	double *w;
-} mesh_pcgrid;
-int mesh_pcgrid_build(const mesh *m, const double *x, double spacing, mesh_pcgrid *g);
-void mesh_pcgrid_free(mesh_pcgrid *g);
 
 #endif
