@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "cli_spawn.h"
 #include "measure.h"
 #include "raster.h"
 #include "vtk.h"
