@@ -65,7 +65,11 @@ void cli_write_mesh(const mesh *m)
 		cli_die(EXIT_NOCONV, "the result is not a valid mesh (%s): not written", err.msg);
 	errno = 0;
 	/* on the threads cli_threads_apply gave the library */
+#ifdef _OPENMP
 	st = mesh_write_threads(stdout, m, omp_get_max_threads());
+#else
+	st = mesh_write_threads(stdout, m, 1);
+#endif
 	if (st == MESH_ENOMEM)
 		cli_die(EXIT_INPUT, "out of memory");
 	if (st != MESH_OK || fflush(stdout) != 0)
