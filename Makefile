@@ -60,6 +60,10 @@ LIB = $(O)libmesh/libmesh.a
 
 PROGS_SRC = $(sort $(wildcard tools/tis-*.c))
 PROGS = $(PROGS_SRC:tools/%.c=$(O)bin/%)
+CLI_SRC = $(sort $(wildcard tools/cli*.c))
+CLI_H = $(sort $(wildcard tools/cli*.h))
+CLI_OBJ = $(CLI_SRC:%.c=$(O)%.o)
+CLI = $(O)tools/libcli.a
 
 UNIT_SRC = $(sort $(wildcard tests/*.c))
 UNITS = $(UNIT_SRC:tests/%.c=$(O)tests/%.test)
@@ -86,13 +90,19 @@ $(LIB): $(LIB_OBJ)
 	rm -f $@
 	ar rcs $@ $(LIB_OBJ)
 
-$(O)tools/cli.o: tools/cli.c tools/cli.h $(LIB_H)
+# The programs' shared plumbing (tools/cli*.c, one concern a file; cli.h
+# includes their headers) as an archive: a program links what it uses.
+$(O)tools/%.o: tools/%.c $(CLI_H) $(LIB_H)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -c -o $@ $<
 
-$(O)bin/%: tools/%.c $(O)tools/cli.o $(LIB) $(LIB_H)
+$(CLI): $(CLI_OBJ)
+	rm -f $@
+	ar rcs $@ $(CLI_OBJ)
+
+$(O)bin/%: tools/%.c $(CLI) $(CLI_H) $(LIB) $(LIB_H)
 	@mkdir -p $(@D)
-	$(CC) $(ALL_CFLAGS) -Itools $(LDFLAGS) -o $@ $< $(O)tools/cli.o $(LIB) $(LIBS)
+	$(CC) $(ALL_CFLAGS) -Itools $(LDFLAGS) -o $@ $< $(CLI) $(LIB) $(LIBS)
 
 $(O)tests/%.test: tests/%.c tests/tap.h $(LIB) $(LIB_H)
 	@mkdir -p $(@D)
@@ -222,7 +232,7 @@ $(FUZZ_LIB): $(FUZZ_LIB_OBJ)
 	rm -f $@
 	ar rcs $@ $(FUZZ_LIB_OBJ)
 
-build-fuzz/%: fuzz/%.c $(FUZZ_LIB) $(LIB_H) tools/cli.c tools/cli.h $(PROGS_SRC)
+build-fuzz/%: fuzz/%.c $(FUZZ_LIB) $(LIB_H) $(CLI_SRC) $(CLI_H) $(PROGS_SRC)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(WARN) $(LIB_INC) -Itools \
 	  -DTIS_VERSION='"$(VERSION)"' $(FUZZ_FLAGS) -fsanitize=fuzzer -c -o $@.o $<
@@ -236,4 +246,4 @@ fuzz: fuzz-build
 	./fuzz/run $(FUZZ_S) $(FUZZ_BIN)
 
 clean:
-	rm -rf libmesh/*/*.o tools/*.o $(LIB) bin tests/*.test build-san build-check build-fuzz demo-out
+	rm -rf libmesh/*/*.o tools/*.o tools/*.a $(LIB) bin tests/*.test build-san build-check build-fuzz demo-out

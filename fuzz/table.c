@@ -1,12 +1,12 @@
 /* fuzz/table.c - libFuzzer harness for the TSV reader (libmesh/core/table.c)
  * as tis-fit uses it: the program
- * itself (tools/tis-fit.c and tools/cli.c compiled into this file) runs on
+ * itself (tools/tis-fit.c and tools/cli*.c compiled into this file) runs on
  * every input in-process.  Its exit() (cli_die on bad input, cli_finish)
  * returns here by longjmp, stdout and stderr go to /dev/null, and the
  * input is what fopen of the program's argument opens.  The first byte
  * picks the options (plain fit, --cusps, --summary, --branch all,
  * --degree 1 --window 0).  What the program allocates (malloc, realloc,
- * getline in these two files) is tracked and freed after it exits, as
+ * getline in these files) is tracked and freed after it exits, as
  * exit would, and so are its table reader, provenance mesh, curve and
  * summary groups (file scope in tis-fit.c); what else libmesh allocates for it and does not get
  * back is leaked (run with -detect_leaks=0). */
@@ -136,6 +136,13 @@ static int fuzz_fclose(FILE *f)
 #define fclose fuzz_fclose
 #define main tis_fit_main
 #include "../tools/cli.c"
+#include "../tools/cli_opt.c"
+#include "../tools/cli_threads.c"
+#include "../tools/cli_mesh.c"
+#include "../tools/cli_table.c"
+#include "../tools/cli_memory.c"
+#include "../tools/cli_signal.c"
+#include "../tools/cli_progress.c"
 #include "../tools/tis-fit.c"
 #undef main
 #undef malloc

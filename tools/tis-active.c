@@ -135,8 +135,8 @@ static struct opts parse(int argc, char **argv)
 		case O_TAU: o.a.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
 		case O_GAMMA0: o.a.gamma0 = cli_double_range("--gamma0", optarg, -1e6, 1e6); break;
 		case O_SIGMA: o.a.sigma = cli_double_range("--sigma", optarg, 0, 100); break;
-		case O_P0: o.mo.p0 = cli_param("--p0", optarg, "p0"); o.mo.has_p0 = 1; break;
-		case O_KA: o.mo.ka = cli_param("--ka", optarg, "ka"); o.mo.has_ka = 1; break;
+		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
+		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
 		case O_TIME: o.jo.t_end = cli_double_range("--time", optarg, 0, 1e12); break;
 		case O_PERTURB: o.jo.perturb = cli_double_range("--perturb", optarg, 0, 0.1); break;
 		case O_SEED: o.jo.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
@@ -339,7 +339,6 @@ int main(int argc, char **argv)
 	cli_model_set(m, &o.mo);
 	cli_history(m);
 	model p = model_from_mesh(m);
-	cli_catch_signals();
 	if (o.js.kind == JSEL_ALL) {
 		one(&o, m, &p, -1);
 	} else {

@@ -71,8 +71,7 @@ struct opts {
 	anneal_opts a;
 	int has_sigma;
 	double sigma;
-	int has_p0, has_ka;
-	double p0, ka;
+	cli_model_opts mo;
 	const char *log;
 	const char *input;
 };
@@ -139,8 +138,8 @@ static struct opts parse(int argc, char **argv)
 		case O_RELAX: o.a.relax = cli_double_range("--relax", optarg, 0, 1e9); break;
 		case O_TAU: o.a.d.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
 		case O_SEED: o.a.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
+		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
+		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
 		case O_EVERY: o.a.every = cli_double_range("--every", optarg, 1e-6, 1e9); break;
 		case O_LOG: o.log = optarg; break;
 		case O_LOGEVERY: o.a.log_every = cli_double_range("--log-every", optarg, 1e-6, 1e9); break;
@@ -230,9 +229,7 @@ int main(int argc, char **argv)
 	cli_init("tis-anneal", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 	mesh *m = cli_read_one(o.input);
-	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
-	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
-		cli_die(EXIT_INPUT, "out of memory");
+	cli_model_set(m, &o.mo);
 	model p = model_from_mesh(m);
 	/* a mesh left by a stopped run continues it (tis(7)) */
 	int was;
@@ -254,7 +251,6 @@ int main(int argc, char **argv)
 	anneal_io io = { o.a.every > 0 ? on_frame : NULL, u.log ? log_row : NULL,
 	                 tty ? on_step : NULL, &u };
 	anneal_result r;
-	cli_catch_signals();
 	if (anneal_run(m, &p, &o.a, was, &cli_stop, &io, &r, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	if (tty) {

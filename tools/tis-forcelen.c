@@ -123,8 +123,8 @@ static struct opts parse(int argc, char **argv)
 			         argc, argv);
 			break;
 		case O_SEED: o.js.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_P0: o.mo.p0 = cli_param("--p0", optarg, "p0"); o.mo.has_p0 = 1; break;
-		case O_KA: o.mo.ka = cli_param("--ka", optarg, "ka"); o.mo.has_ka = 1; break;
+		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
+		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
 		case O_STEP: o.fl.step = cli_double_range("--step", optarg, 1e-9, 10); break;
 		case O_RANGE: o.fl.range = cli_double_range("--range", optarg, 0, 100); break;
 		case O_LMIN: o.fl.lmin = cli_double_range("--lmin", optarg, 1e-9, 100); break;
@@ -246,7 +246,6 @@ int main(int argc, char **argv)
 {
 	cli_init("tis-forcelen", usage, argc, argv);
 	struct opts o = parse(argc, argv);
-	cli_catch_signals();
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;

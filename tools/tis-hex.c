@@ -18,8 +18,7 @@ static const char help[] =
 
 struct opts {
 	int nx, ny;
-	int has_p0, has_ka;
-	double p0, ka;
+	cli_model_opts mo;
 };
 
 static struct opts parse(int argc, char **argv)
@@ -35,8 +34,8 @@ static struct opts parse(int argc, char **argv)
 	int c;
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
 		switch (c) {
-		case 'p': o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
-		case 'k': o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
+		case 'p': cli_model_option(&o.mo, "p0", optarg); break;
+		case 'k': cli_model_option(&o.mo, "ka", optarg); break;
 		case 'h': cli_help(help);
 		case 'V': cli_version();
 		default: cli_bad_option(argv, c);
@@ -67,9 +66,7 @@ int main(int argc, char **argv)
 	mesh_error err;
 	if (lattice_honeycomb(o.nx, o.ny, &m, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
-	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
-	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
-		cli_die(EXIT_INPUT, "out of memory");
+	cli_model_set(m, &o.mo);
 	cli_history(m);
 	cli_write_mesh(m);
 	mesh_free(m);

@@ -36,8 +36,7 @@ enum { OUT_KEYS, OUT_CHECK, OUT_TSV, OUT_CELLS, OUT_JUNCTIONS };
 
 struct opts {
 	int out;
-	int has_p0, has_ka;
-	double p0, ka;
+	cli_model_opts mo;
 	const char *path;
 };
 
@@ -69,14 +68,14 @@ static struct opts parse(int argc, char **argv)
 		case 't': set_out(&o, OUT_TSV); break;
 		case 'C': set_out(&o, OUT_CELLS); break;
 		case 'J': set_out(&o, OUT_JUNCTIONS); break;
-		case 'p': o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
-		case 'k': o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
+		case 'p': cli_model_option(&o.mo, "p0", optarg); break;
+		case 'k': cli_model_option(&o.mo, "ka", optarg); break;
 		case 'h': cli_help(help);
 		case 'V': cli_version();
 		default: cli_bad_option(argv, c);
 		}
 	}
-	if (o.out == OUT_CHECK && (o.has_p0 || o.has_ka))
+	if (o.out == OUT_CHECK && (o.mo.has_p0 || o.mo.has_ka))
 		cli_usage_error("--check validates only: --p0 and --ka do nothing with it");
 	if (argc - optind > 1)
 		cli_usage_error("at most one mesh file");
@@ -152,11 +151,7 @@ int main(int argc, char **argv)
 	long line = 0, frame = 0;
 	mesh *m;
 	while (cli_read_mesh(f, o.path, &line, &m)) {
-		model p = model_from_mesh(m);
-		if (o.has_p0)
-			p.p0 = o.p0;
-		if (o.has_ka)
-			p.ka = o.ka;
+		model p = cli_model(m, &o.mo);
 		if (o.out == OUT_KEYS) {
 			mesh_stats s;
 			if (mesh_stats_compute(m, &p, &s) != MESH_OK)

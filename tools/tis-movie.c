@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "cli_spawn.h"
 #include "measure.h"
 #include "raster.h"
 #include "vtk.h"
@@ -45,10 +46,11 @@ enum { FMT_MP4, FMT_GIF, FMT_PPM };
 
 struct opts {
 	const char *out, *ffmpeg, *input;
-	int format, fps, width, nomark, has_p0;
+	int format, fps, width, nomark;
+	cli_model_opts mo;   /* --p0 */
 	double window;    /* 0: the whole box */
 	long ja, jb;      /* --junction, ja < 0: none */
-	double scale, p0;
+	double scale;
 };
 
 static struct opts parse(int argc, char **argv)
@@ -86,7 +88,7 @@ static struct opts parse(int argc, char **argv)
 		case O_SCALE: o.scale = cli_double_range("--scale", optarg, 1e-12, 1e12); break;
 		case O_JUNCTION: cli_vertex_pair("--junction", argc, argv, &o.ja, &o.jb); break;
 		case O_NOMARK: o.nomark = 1; break;
-		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
+		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
 		case O_FFMPEG: o.ffmpeg = optarg; break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
@@ -239,9 +241,7 @@ int main(int argc, char **argv)
 	/* one tension scale for the whole movie, so that colours compare */
 	double scale = o.scale;
 	for (int i = 0; i < fr.n && o.scale == 0; i++) {
-		model p = model_from_mesh(fr.m[i]);
-		if (o.has_p0)
-			p.p0 = o.p0;
+		model p = cli_model(fr.m[i], &o.mo);
 		double s = raster_tension_max(fr.m[i], &p);
 		if (s < 0)
 			cli_die(EXIT_INPUT, "out of memory");
@@ -267,9 +267,7 @@ int main(int argc, char **argv)
 	pid_t pid = o.format == FMT_PPM ? 0 : encoder(&o, w, h, &fd, &errfd);
 	for (int i = 0; i < fr.n; i++) {
 		mesh *m = fr.m[i];
-		model p = model_from_mesh(m);
-		if (o.has_p0)
-			p.p0 = o.p0;
+		model p = cli_model(m, &o.mo);
 		free(mark);
 		mark = malloc(((size_t)m->nj + 1) * sizeof *mark);
 		if (mark == NULL)

@@ -44,8 +44,8 @@ static const char help[] =
 	"  --version     print the version\n";
 
 struct opts {
-	int has_p0, has_ka, strict, accept, quiet;
-	double p0, ka;
+	cli_model_opts mp;
+	int strict, accept, quiet;
 	min_opts mo;
 	const char *path;
 };
@@ -77,8 +77,8 @@ static struct opts parse(int argc, char **argv)
 	int c;
 	while ((c = getopt_long(argc, argv, ":hq", lo, NULL)) != -1) {
 		switch (c) {
-		case 'p': o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
-		case 'k': o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
+		case 'p': cli_model_option(&o.mp, "p0", optarg); break;
+		case 'k': cli_model_option(&o.mp, "ka", optarg); break;
 		case 'f': o.mo.ftol = cli_double_range("--ftol", optarg, 0, 1e6); break;
 		case 'n': o.mo.maxeval = cli_long("--maxeval", optarg, 1, 1000000000); break;
 		case 'a':
@@ -135,7 +135,6 @@ int main(int argc, char **argv)
 {
 	cli_init("tis-relax", usage, argc, argv);
 	struct opts o = parse(argc, argv);
-	cli_catch_signals();
 	o.mo.stop = &cli_stop;
 	FILE *f = cli_open(o.path);
 	long line = 0;
@@ -145,9 +144,7 @@ int main(int argc, char **argv)
 	 * written, relaxed as far as it got, and marked */
 	while (!cli_stop && cli_read_mesh(f, o.path, &line, &m)) {
 		nmesh++;
-		if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
-		    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
-			cli_die(EXIT_INPUT, "out of memory");
+		cli_model_set(m, &o.mp);
 		/* the relaxed mesh is a new state: a stopped run's state lines
 		 * and mark no longer describe it, and kept they would make the
 		 * next run refuse it as that run's to continue */

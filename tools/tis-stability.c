@@ -227,7 +227,6 @@ int main(int argc, char **argv)
 {
 	cli_init("tis-stability", usage, argc, argv);
 	struct opts o = parse(argc, argv);
-	cli_catch_signals();
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;

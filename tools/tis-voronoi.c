@@ -37,8 +37,7 @@ struct opts {
 	int has_box;
 	long lloyd;
 	const char *points;
-	int has_p0, has_ka;
-	double p0, ka;
+	cli_model_opts mo;
 };
 
 static struct opts parse(int argc, char **argv)
@@ -70,8 +69,8 @@ static struct opts parse(int argc, char **argv)
 			break;
 		case 'l': o.lloyd = cli_long("--lloyd", optarg, 0, 1000000); break;
 		case 'f': o.points = optarg; break;
-		case 'p': o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
-		case 'k': o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
+		case 'p': cli_model_option(&o.mo, "p0", optarg); break;
+		case 'k': cli_model_option(&o.mo, "ka", optarg); break;
 		case 'h': cli_help(help);
 		case 'V': cli_version();
 		default: cli_bad_option(argv, c);
@@ -144,9 +143,7 @@ int main(int argc, char **argv)
 	/* CGAL's enumeration of vertices has no locality; the kernels want it */
 	if (mesh_order_spatial(m, MESH_ORDER_VERTICES) != MESH_OK)
 		cli_die(EXIT_INPUT, "out of memory");
-	if ((o.has_p0 && mesh_param_set(m, "p0", o.p0) != MESH_OK) ||
-	    (o.has_ka && mesh_param_set(m, "ka", o.ka) != MESH_OK))
-		cli_die(EXIT_INPUT, "out of memory");
+	cli_model_set(m, &o.mo);
 	cli_history(m);
 	cli_write_mesh(m);
 	mesh_free(m);

@@ -28,8 +28,7 @@ static const char help[] =
 
 struct opts {
 	const char *prefix;
-	int has_p0, has_ka;
-	double p0, ka;
+	cli_model_opts mo;
 	const char *input;
 };
 
@@ -53,8 +52,8 @@ static struct opts parse(int argc, char **argv)
 				cli_usage_error("-o: empty prefix");
 			o.prefix = optarg;
 			break;
-		case O_P0: o.p0 = cli_param("--p0", optarg, "p0"); o.has_p0 = 1; break;
-		case O_KA: o.ka = cli_param("--ka", optarg, "ka"); o.has_ka = 1; break;
+		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
+		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
 		default: cli_bad_option(argv, c);
@@ -109,11 +108,7 @@ int main(int argc, char **argv)
 		if (o.prefix == NULL && cli_read_mesh(in, o.input, &line, &more))
 			cli_die(EXIT_INPUT, "%s: more than one mesh: give -o PREFIX",
 			        cli_input_name(o.input));
-		model p = model_from_mesh(m);
-		if (o.has_p0)
-			p.p0 = o.p0;
-		if (o.has_ka)
-			p.ka = o.ka;
+		model p = cli_model(m, &o.mo);
 		mesh_wrap(m);   /* vertices in the box, the images outside it */
 		double t;
 		int has_t = mesh_time(m, &t);

@@ -1,0 +1,39 @@
+/* cli_mesh.h - mesh input and output for programs: a bad mesh, a failed
+ * write or a lack of memory ends the program with one line (cli_die). */
+#ifndef TIS_CLI_MESH_H
+#define TIS_CLI_MESH_H
+
+#include <stdio.h>
+
+#include "mesh.h"
+
+/* Open a mesh input: NULL or "-" is stdin.  Exit 1 if it cannot be opened. */
+FILE *cli_open(const char *path);
+/* The name to use for an input in messages. */
+const char *cli_input_name(const char *path);
+
+/* Read the next mesh: 1 and *m set, 0 at the end of the stream; exit 1 with
+ * "tis-foo: NAME:LINE: message" on bad input. */
+int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m);
+/* Read exactly one mesh; exit 1 if there is none, or if anything but the
+ * end of the input follows it (a second mesh, garbage). */
+mesh *cli_read_one(const char *path);
+
+/* Write a mesh to stdout and flush it (a record is complete or absent):
+ * exit 3 if it would not read back (mesh_write_check), 3 if stdout was
+ * closed early (EPIPE), 1 on another write error. */
+void cli_write_mesh(const mesh *m);
+/* Write a frame of a run to stdout: a "# NAME frame t T" comment, then m
+ * with a "state t T" line (the frame's time, which tis-info and tis-vtk
+ * read); m keeps the state lines it had.  Exit 1 on a write error or out
+ * of memory. */
+void cli_write_frame(mesh *m, double t);
+
+/* Add the command line given to cli_init as a history line; exit 1 if out
+ * of memory. */
+void cli_history(mesh *m);
+/* Append " # note" to the last history line (what the run did not finish,
+ * how it ended); exit 1 if out of memory. */
+void cli_history_note(mesh *m, const char *note);
+
+#endif

@@ -1,0 +1,69 @@
+/* cli_opt.h - option values: numbers, sizes, lists, vertex pairs, the
+ * junction choices and the model parameters every program takes the same
+ * way.  A value that is not what its option takes is a usage error naming
+ * the option (exit 2). */
+#ifndef TIS_CLI_OPT_H
+#define TIS_CLI_OPT_H
+
+#include "energy.h"
+#include "mesh.h"
+#include "select.h"
+
+/* Option values: the whole argument must be a finite number (or an integer
+ * within [lo, hi]); otherwise a usage error naming the option. */
+double cli_double(const char *opt, const char *arg);
+double cli_double_range(const char *opt, const char *arg, double lo, double hi);
+long cli_long(const char *opt, const char *arg, long lo, long hi);
+/* Model parameter name given by option opt: a finite number in the range
+ * every source of it shares (range.h); otherwise a usage error. */
+double cli_param(const char *opt, const char *arg, const char *name);
+/* --box LX LY: two numbers in range_box's range. */
+void cli_box(const char *ax, const char *ay, double *lx, double *ly);
+
+/* A size in bytes: a number > 0, alone or with one of the suffixes k, M,
+ * G, T (10^3, 10^6, 10^9, 10^12: "8G", "1.5G", "512M"); otherwise a
+ * usage error naming the option. */
+double cli_size(const char *opt, const char *arg);
+
+/* A list option: "v1,v2,..." or a range "lo:hi:n" (n points, both ends
+ * included), each value finite; malloc'd, *n values.  Usage error
+ * otherwise. */
+double *cli_double_list(const char *opt, const char *arg, int *n);
+
+/* cli_double_list whose every value is > lo (strict) or >= lo; a usage
+ * error "OPT: every value must be > LO (got V)" otherwise. */
+double *cli_double_list_above(const char *opt, const char *arg, int *n, double lo,
+                              int strict);
+
+/* "k1,k2,...": integers in [lo, hi] (cli_long each); malloc'd, *n of them.
+ * Usage error otherwise. */
+int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n);
+
+/* The two vertex ids of an option like --junction A B inside a getopt_long
+ * loop: A is optarg, B the next argument (optind moves past it). */
+void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, long *b);
+
+/* A junction option (select.h) inside a getopt_long loop, by its long
+ * name: "junction" A B (JSEL_PAIR; B is the next argument), "index" K,
+ * "random" K, "list" FILE, "regular" K, any other name every junction (JSEL_ALL:
+ * --all, --network).  A second choice is a usage error with the message
+ * choose, unless again is set and it is the same kind (the last value
+ * counts). */
+void cli_jsel(jsel *js, const char *name, int again, const char *choose, int argc,
+              char *const argv[]);
+
+/* Model parameters given on the command line (--p0, --ka), which
+ * override the mesh's.  cli_model_option takes one: name "p0" or "ka",
+ * arg its value (cli_param: the range every source of it shares).
+ * cli_model gives the model of m with them; cli_model_set writes them
+ * into m's params (exit 1 if out of memory), so that the mesh written
+ * carries them. */
+typedef struct {
+	int has_p0, has_ka;
+	double p0, ka;
+} cli_model_opts;
+void cli_model_option(cli_model_opts *mo, const char *name, const char *arg);
+model cli_model(const mesh *m, const cli_model_opts *mo);
+void cli_model_set(mesh *m, const cli_model_opts *mo);
+
+#endif
