@@ -57,6 +57,8 @@ for my $l (@layers) {
 		(my $m = $o) =~ s{.*/}{};
 		$m =~ s/\.o$//;
 		$m = exists $layer{"$m.c"} ? "$m.c" : "$m.cc";
+		# an object left by a source since renamed or removed
+		next unless exists $layer{$m};
 		open my $nm, '-|', 'nm', '-P', $o or die "layers.pl: nm $o: $!\n";
 		while (<$nm>) {
 			my ($sym, $type) = split ' ';
