@@ -93,6 +93,13 @@ void cli_write_frame(mesh *m, double t)
 		cli_die(EXIT_INPUT, "out of memory");
 }
 
+int cli_continues(const mesh *m)
+{
+	const char *run = mesh_state_get(m, "run");
+	size_t n = strlen(cli_name);
+	return run && strncmp(run, cli_name, n) == 0 && run[n] == ' ';
+}
+
 void cli_history(mesh *m)
 {
 	if (mesh_history_argv(m, cli_argc(), cli_argv()) != MESH_OK)

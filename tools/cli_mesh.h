@@ -29,6 +29,11 @@ void cli_write_mesh(const mesh *m);
  * of memory. */
 void cli_write_frame(mesh *m, double t);
 
+/* Whether m carries the mark of a stopped run of this program (cli_name),
+ * which the run about to start continues (tis(7); the library checks the
+ * rest of the mark). */
+int cli_continues(const mesh *m);
+
 /* Add the command line given to cli_init as a history line; exit 1 if out
  * of memory. */
 void cli_history(mesh *m);

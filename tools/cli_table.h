@@ -23,4 +23,40 @@ void cli_table_header_run(FILE *f, const mesh *m, const char *cols);
 FILE *cli_open_numbered(const char *pattern, int j);
 int cli_one_d(const char *name);
 
+/* A table a run writes beside its mesh (tis-active --trace and --events,
+ * tis-anneal --log), which the run that continues a stopped one goes on
+ * writing (tis(7), "Continuing a stopped run"): a stopped run ends the
+ * file with a "# PROGRAM note" line and leaves in its mesh the state line
+ * NAME_table, the file's size and a hash of its bytes; the run that
+ * continues it checks that the file it is given is that file (its first
+ * that many bytes alike: a longer one, left by a continuation killed
+ * before it wrote its mesh, is cut back to them), adds a "# continued:
+ * COMMAND" line and appends its rows, so that the rows of a run stopped
+ * and continued are those of the run never stopped.
+ *
+ * cli_runtable_take, before the run: the record of m (taken out of it,
+ * so that no frame carries it), for a table of this name ("trace",
+ * "events", "log") at path (NULL: none); continued says whether m is a
+ * stopped run's that this run continues.
+ * cli_runtable_open, once the run has started: the file, a new one with
+ * the provenance header (cli_table_header_run) and the column names
+ * cols, or the stopped run's, with those same column names; exit 1 with
+ * the reason if it is not (another file, another run's, other columns),
+ * or if a continued run that left no record would overwrite a file.
+ * cli_runtable_close: note (NULL for a run that finished) as the last
+ * line, and for a stopped run (stopped set) the record in m (exit 1 if
+ * out of memory); 0, or the errno of a write error (the caller says so:
+ * tis-anneal writes its mesh first). */
+typedef struct {
+	const char *name, *path;
+	int continued, has_record;
+	long long bytes;                 /* the record: size and hash */
+	unsigned long long hash;
+	FILE *f;
+} cli_runtable;
+void cli_runtable_take(cli_runtable *t, mesh *m, const char *name, const char *path,
+                       int continued);
+FILE *cli_runtable_open(cli_runtable *t, const mesh *m, const char *cols);
+int cli_runtable_close(cli_runtable *t, mesh *m, const char *note, int stopped);
+
 #endif

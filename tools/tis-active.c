@@ -205,6 +205,8 @@ struct out {
 	int j;              /* the junction traced (-1 in network mode) */
 	int jfile;          /* the number in the file names (-1: as given) */
 	FILE *trace, *events;
+	cli_runtable *rt;   /* one run: its trace and events, which a run that
+	                       continues it goes on writing (NULL: several) */
 	cli_progress pr;
 };
 
@@ -250,14 +252,22 @@ static void on_begin(void *data, act *a, mesh *m)
 {
 	struct out *u = data;
 	if (u->o->trace) {
-		u->trace = cli_open_numbered(u->o->trace, u->jfile);
 		char cols[4096];
 		act_trace_columns(cols, sizeof cols, u->j, u->o->jo.watch, u->o->jo.nwatch);
-		cli_table_header_run(u->trace, m, cols);
+		if (u->rt)
+			u->trace = cli_runtable_open(&u->rt[0], m, cols);
+		else {
+			u->trace = cli_open_numbered(u->o->trace, u->jfile);
+			cli_table_header_run(u->trace, m, cols);
+		}
 	}
 	if (u->o->events) {
-		u->events = cli_open_numbered(u->o->events, u->jfile);
-		cli_table_header_run(u->events, m, ACT_EVENT_COLUMNS);
+		if (u->rt)
+			u->events = cli_runtable_open(&u->rt[1], m, ACT_EVENT_COLUMNS);
+		else {
+			u->events = cli_open_numbered(u->o->events, u->jfile);
+			cli_table_header_run(u->events, m, ACT_EVENT_COLUMNS);
+		}
 		act_set_t1_hook(a, on_t1, u);
 	}
 }
@@ -268,10 +278,12 @@ static void close_out(FILE *f, const char *name)
 		cli_die(EXIT_INPUT, "%s: write error", name);
 }
 
-/* Run m with junction j active (-1: network), outputs numbered jfile. */
-static act_result run(const struct opts *o, mesh *m, const model *p, int j, int jfile)
+/* Run m with junction j active (-1: network), outputs numbered jfile, or
+ * (rt not NULL) the one run's. */
+static act_result run(const struct opts *o, mesh *m, const model *p, int j, int jfile,
+                      cli_runtable *rt)
 {
-	struct out u = { .o = o, .j = j, .jfile = jfile };
+	struct out u = { .o = o, .j = j, .jfile = jfile, .rt = rt };
 	cli_progress_init(&u.pr);
 	act_io io = { on_begin, on_row, o->jo.every > 0 ? on_frame : NULL, on_step, &u };
 	act_result r;
@@ -284,15 +296,31 @@ static act_result run(const struct opts *o, mesh *m, const model *p, int j, int 
 		progress(&u, r.c.t, r.c.nstep, r.c.nt1);
 		fputc('\n', stderr);
 	}
-	close_out(u.trace, o->trace);
-	close_out(u.events, o->events);
+	if (rt) {
+		int stopped = r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE;
+		char note[128];
+		if (r.why == ACT_END_STOP)
+			snprintf(note, sizeof note, "interrupted by %s at t %.10g", cli_stop_name(), r.t_end);
+		else
+			snprintf(note, sizeof note, "stopped: non-finite state at t %.10g", r.t_end);
+		for (int k = 0; k < 2; k++)
+			if (cli_runtable_close(&rt[k], m, stopped ? note : NULL, stopped))
+				cli_die(EXIT_INPUT, "%s: write error", rt[k].path);
+	} else {
+		close_out(u.trace, o->trace);
+		close_out(u.events, o->events);
+	}
 	return r;
 }
 
 static int one(const struct opts *o, mesh *m, const model *p, int j)
 {
-	/* one run: the file names as given */
-	act_result r = run(o, m, p, j, -1);
+	/* one run: the file names as given, continued where a stopped run left
+	 * them */
+	cli_runtable rt[2];
+	cli_runtable_take(&rt[0], m, "trace", o->trace, cli_continues(m));
+	cli_runtable_take(&rt[1], m, "events", o->events, cli_continues(m));
+	act_result r = run(o, m, p, j, -1, rt);
 	char note[512];
 	act_note(note, sizeof note, &o->a, &r);
 	cli_history_note(m, note);
@@ -317,7 +345,7 @@ static int several(const struct opts *o, const mesh *m0, const model *p, const i
 		mesh *m = mesh_copy(m0);
 		if (m == NULL)
 			cli_die(EXIT_INPUT, "out of memory");
-		act_result r = run(o, m, p, j, j);
+		act_result r = run(o, m, p, j, j, NULL);
 		act_result_write(stdout, m0, j, &r);
 		fflush(stdout);
 		bad |= r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE;

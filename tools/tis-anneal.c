@@ -240,11 +240,11 @@ int main(int argc, char **argv)
 
 	struct out u = { .o = &o };
 	int tty = isatty(2);
+	/* the log of a continued run goes on where the stopped run's ended */
+	cli_runtable log;
+	cli_runtable_take(&log, m, "log", o.log, was);
 	if (o.log) {
-		u.log = fopen(o.log, "w");
-		if (u.log == NULL)
-			cli_die(EXIT_INPUT, "%s: cannot open for writing", o.log);
-		cli_table_header_run(u.log, m, "t\tf6\tenergy\tt1");
+		u.log = cli_runtable_open(&log, m, "t\tf6\tenergy\tt1");
 		if (fflush(u.log) != 0)
 			u.log_errno = errno ? errno : EIO;
 	}
@@ -270,13 +270,9 @@ int main(int argc, char **argv)
 	anneal_note(note, sizeof note, &o.a, &r, done ? NULL : why);
 	cli_history_note(m, note);
 
-	if (u.log) {
-		if (!done)
-			fprintf(u.log, "# %s %s\n", cli_name, why);
-		errno = 0;
-		if ((ferror(u.log) || fclose(u.log) != 0) && !u.log_errno)
-			u.log_errno = errno ? errno : EIO;
-	}
+	int e = cli_runtable_close(&log, m, done ? NULL : why, !done);
+	if (e && !u.log_errno)
+		u.log_errno = e;
 	if (o.a.every > 0)
 		printf("# %s final t %.10g\n", cli_name, r.c.t);
 	cli_write_mesh(m);

@@ -208,6 +208,34 @@ void act_counts_get(const act *a, act_counts *c)
 	c->t = a->t;
 }
 
+void act_counts_set(act *a, const act_counts *c)
+{
+	double t = a->c.t;
+	a->c = *c;
+	a->c.t = t;
+	if (a->ops->counted)
+		a->ops->counted(a);
+}
+
+void act_counts_text(const act_counts *c, char *buf, size_t n)
+{
+	snprintf(buf, n, "%ld %ld %ld %ld %ld %ld %ld %ld", c->nstep, c->nfev, c->nsetup, c->nlin,
+	         c->nt1, c->nt1_refused, c->nt1_again, c->nreject);
+}
+
+int act_counts_parse(const char *text, act_counts *c)
+{
+	act_counts x = { .jcollapse = -1 };
+	int used = -1;
+	if (sscanf(text, "%ld %ld %ld %ld %ld %ld %ld %ld%n", &x.nstep, &x.nfev, &x.nsetup, &x.nlin,
+	           &x.nt1, &x.nt1_refused, &x.nt1_again, &x.nreject, &used) != 8 ||
+	    text[used] != '\0' || x.nstep < 0 || x.nfev < 0 || x.nsetup < 0 || x.nlin < 0 ||
+	    x.nt1 < 0 || x.nt1_refused < 0 || x.nt1_again < 0 || x.nreject < 0)
+		return MESH_EINVAL;
+	*c = x;
+	return MESH_OK;
+}
+
 double act_time(const act *a)
 {
 	return a->t;

@@ -189,6 +189,15 @@ int act_run(act *a, double t_end, volatile sig_atomic_t *stop, act_observer obs,
             void *data, act_end *why, mesh_error *err);
 
 void act_counts_get(const act *a, act_counts *c);
+/* A continued run counts on from the run it continues (its trace's T1
+ * counts are the unbroken run's): its counts but the time, set before
+ * the first step.  act_counts_text writes them as one line of text
+ * (buf of at least ACT_COUNTS_LEN), act_counts_parse reads that back
+ * (MESH_EINVAL if it is not such a line). */
+void act_counts_set(act *a, const act_counts *c);
+enum { ACT_COUNTS_LEN = 256 };
+void act_counts_text(const act_counts *c, char *buf, size_t n);
+int act_counts_parse(const char *text, act_counts *c);
 double act_time(const act *a);
 /* The time of the step before the last one (samples between it and
  * act_time can be asked for with act_sample). */
@@ -289,8 +298,11 @@ typedef struct {
 /* Callbacks of a run, any of them NULL.  begin: the integrator exists,
  * before the first row (open outputs, act_set_t1_hook).  row: a sample at
  * a multiple of trace_every, the first one the start state and the last
- * one the end state.  frame: the mesh at a multiple of every.  step:
- * after every step (progress).  None may change the run. */
+ * one the end state; but a continued run's first row is the first after
+ * its start, and a stopped run's last the last before its end, so that
+ * the rows of a run stopped and continued are those of the run never
+ * stopped.  frame: the mesh at a multiple of every.  step: after every
+ * step (progress).  None may change the run. */
 typedef struct {
 	void (*begin)(void *data, act *a, mesh *m);
 	void (*row)(void *data, const act_row *w);

@@ -653,5 +653,5 @@ static int bdf_sample(act *a, double t, double *r, double *dg)
 const act_ops act_bdf_ops = {
 	.alloc = bdf_alloc, .free = bdf_free, .run = bdf_run, .segment = NULL,
 	.sample = bdf_sample, .rng_get = NULL, .rng_set = NULL,
-	.fresh = NULL, .set_fresh = NULL, .renumbered = NULL
+	.fresh = NULL, .set_fresh = NULL, .renumbered = NULL, .counted = NULL
 };

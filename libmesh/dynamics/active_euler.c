@@ -76,6 +76,16 @@ static int euler_dyn(act *a, mesh_error *err)
 	return MESH_OK;
 }
 
+static void euler_counted(act *a)
+{
+	euler *e = a->s;
+	dyn_counts c;
+	dyn_counts_get(e->d, &c);
+	e->nt1_base = a->c.nt1 - c.nt1;
+	e->refused_base = a->c.nt1_refused - c.nt1_refused;
+	e->again_base = a->c.nt1_again - c.nt1_again;
+}
+
 static int euler_alloc(act *a, mesh_error *err)
 {
 	const mesh *m = a->m;
@@ -250,5 +260,6 @@ static void euler_set_fresh(act *a, const unsigned char *fresh)
 const act_ops act_euler_ops = {
 	.alloc = euler_alloc, .free = euler_free, .run = euler_run, .segment = euler_segment,
 	.sample = NULL, .rng_get = euler_rng_get, .rng_set = euler_rng_set,
-	.fresh = euler_fresh, .set_fresh = euler_set_fresh, .renumbered = euler_dyn
+	.fresh = euler_fresh, .set_fresh = euler_set_fresh, .renumbered = euler_dyn,
+	.counted = euler_counted
 };

@@ -32,6 +32,9 @@ typedef struct {
 	/* the junctions were renumbered (a checkpoint after T1s): start the
 	 * integrator afresh from the mesh, fresh junctions none */
 	int (*renumbered)(act *a, mesh_error *err);
+	/* the counts were set (act_counts_set): the scheme's own counting
+	 * goes on from them; NULL for one that counts in a->c itself */
+	void (*counted)(act *a);
 } act_ops;
 
 extern const act_ops act_euler_ops, act_rk_ops, act_bdf_ops;

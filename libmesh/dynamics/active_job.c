@@ -59,17 +59,21 @@ static void job_key(const model *p, const act_opts *o, const act_job_opts *jo, i
 }
 
 /* The names of the state lines of a stopped run (act_job). */
-static const char *const state_names[] = { "run", "active_t", "active_rng", "active_fresh" };
+static const char *const state_names[] = { "run", "active_t", "active_rng", "active_fresh",
+                                           "active_counts" };
 
 /* The start of a run: a stopped run's time, noise stream (rng, "" if
- * none) and fresh junctions (*fresh, malloc'd, "" if none) from the state
+ * none), fresh junctions (*fresh, malloc'd, "" if none) and counts (*c,
+ * none: zero; a tis before them left none) from the state
  * lines it left, which are used up (frames and the end carry only a new
  * run's); or a mesh at rest (checked) plus the perturbation of the
  * coordinates and of the tensions of the active junctions (NULL: all),
  * with time 0 and the generator where the perturbation left it. */
 static int start(mesh *m, const model *p, const unsigned char *active, const act_job_opts *jo,
-                 int continued, double *t0, char *rng, size_t n, char **fresh, mesh_error *err)
+                 int continued, double *t0, char *rng, size_t n, char **fresh, act_counts *c,
+                 mesh_error *err)
 {
+	*c = (act_counts){ .jcollapse = -1 };
 	const char *name = jo->name ? jo->name : "<mesh>";
 	*t0 = 0;
 	rng[0] = '\0';
@@ -78,12 +82,16 @@ static int start(mesh *m, const model *p, const unsigned char *active, const act
 		const char *ts = mesh_state_get(m, "active_t");
 		const char *rs = mesh_state_get(m, "active_rng");
 		const char *fs = mesh_state_get(m, "active_fresh");
+		const char *cs = mesh_state_get(m, "active_counts");
 		char *end = NULL;
 		if (ts)
 			*t0 = strtod(ts, &end);
 		if (ts == NULL || *end != '\0' || !isfinite(*t0) || m->dg == NULL)
 			return mesh_error_set(err, 0, MESH_EINVAL, "%s: bad state active_t '%s'", name,
 			                      ts ? ts : "(none)");
+		if (cs && act_counts_parse(cs, c) != MESH_OK)
+			return mesh_error_set(err, 0, MESH_EINVAL, "%s: bad state active_counts '%s'",
+			                      name, cs);
 		if (rs)
 			snprintf(rng, n, "%s", rs);
 		if ((*fresh = strdup(fs ? fs : "")) == NULL)
@@ -177,14 +185,18 @@ static int record_state(mesh *m, const act *a, act_end why, const char *key)
 		mesh_state_clear(m);
 		return MESH_OK;
 	}
-	char buf[64], rs[OU_STATE_LEN], *fresh = NULL;
+	char buf[64], rs[OU_STATE_LEN], cs[ACT_COUNTS_LEN], *fresh = NULL;
 	snprintf(buf, sizeof buf, "%.17g", act_time(a));
+	act_counts c;
+	act_counts_get(a, &c);
+	act_counts_text(&c, cs, sizeof cs);
 	/* none left of another run's (a mesh of an older tis without the mark) */
 	for (size_t k = 0; k < sizeof state_names / sizeof state_names[0]; k++)
 		mesh_state_del(m, state_names[k]);
 	int st = MESH_OK;
 	if (mesh_run_mark(m, "tis-active", key) != MESH_OK ||
 	    mesh_state_set(m, "active_t", buf) != MESH_OK ||
+	    mesh_state_set(m, "active_counts", cs) != MESH_OK ||
 	    act_rng_get(a, rs, sizeof rs) != MESH_OK ||
 	    (rs[0] && mesh_state_set(m, "active_rng", rs) != MESH_OK) ||
 	    act_fresh_get(a, &fresh) != MESH_OK ||
@@ -203,6 +215,7 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 			 .lmin = INFINITY, .lmax = -INFINITY };
 	char rng[OU_STATE_LEN], key[1024], *fresh = NULL;
 	double t0;
+	act_counts c0;
 	int st, continued;
 	if (j >= 0) {
 		if (j >= m->nj)
@@ -218,10 +231,11 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 		st = mesh_error_set(err, 0, st, "%s: %s", jo->name ? jo->name : "<mesh>", e2.msg);
 		goto out;
 	}
-	if ((st = start(m, p, active, jo, continued, &t0, rng, sizeof rng, &fresh, err)) != MESH_OK)
+	if ((st = start(m, p, active, jo, continued, &t0, rng, sizeof rng, &fresh, &c0, err)) != MESH_OK)
 		goto out;
 	if ((st = act_alloc(m, p, o, active, t0, jo->seed, &u.a, err)) != MESH_OK)
 		goto out;
+	act_counts_set(u.a, &c0);
 	if (rng[0] && act_rng_set(u.a, rng) != MESH_OK) {
 		st = mesh_error_set(err, 0, MESH_EINVAL, "bad random generator state in the mesh");
 		goto out;
@@ -238,7 +252,10 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 	}
 	if (u.io->begin)
 		u.io->begin(u.io->data, u.a, m);
-	row(&u, t0);
+	/* a continued run's start is the end of the run it continues, which
+	 * wrote the rows up to it: its rows are those of the run never stopped */
+	if (!continued)
+		row(&u, t0);
 	u.krow = (long)floor(t0 / jo->trace_every) + 1;
 	u.next_row = u.krow * jo->trace_every;
 	if (jo->every > 0) {
@@ -250,7 +267,9 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 	if (!u.bad) {
 		act_counts_get(u.a, &r->c);
 		r->t_end = act_time(u.a);
-		if (u.last_row_t != r->t_end)
+		/* the end state as a row, unless it is one already or a run
+		 * that continues this one goes on from it */
+		if (u.last_row_t != r->t_end && r->why != ACT_END_STOP)
 			row(&u, r->t_end);
 	}
 	if (u.bad) {

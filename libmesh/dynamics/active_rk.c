@@ -697,5 +697,6 @@ static int rk_renumbered(act *a, mesh_error *err)
 const act_ops act_rk_ops = {
 	.alloc = rk_alloc, .free = rk_free, .run = rk_run, .segment = rk_segment,
 	.sample = rk_sample, .rng_get = rk_rng_get, .rng_set = rk_rng_set,
-	.fresh = rk_fresh, .set_fresh = rk_set_fresh, .renumbered = rk_renumbered
+	.fresh = rk_fresh, .set_fresh = rk_set_fresh, .renumbered = rk_renumbered,
+	.counted = NULL
 };

@@ -234,7 +234,10 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 	dyn_counts_get(u.d, &r->c0);
 	/* frames and log rows at the first step at or after each multiple of
 	 * their interval; a continued run goes on with the next one */
-	log_row(&u);
+	/* a continued run's start is the end of the run it continues, which
+	 * logged the rows up to it */
+	if (!continued)
+		log_row(&u);
 	do
 		u.next_log = ++u.klog * o->log_every;
 	while (u.next_log <= r->c0.t);
@@ -284,7 +287,10 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 			if (dyn_state_save(u.d) != MESH_OK || mesh_run_mark(m, "tis-anneal", proto) != MESH_OK ||
 			    (o->d.t1_again > 0 && fresh_save(u.d, m) != MESH_OK))
 				st = MESH_ENOMEM;
-			log_row(&u);
+			/* the end state as a row, unless a run that continues
+			 * this one goes on from it */
+			if (r->why != ANNEAL_END_STOP)
+				log_row(&u);
 		} else if (mesh_order_spatial(m, MESH_ORDER_ALL) != MESH_OK)
 			st = MESH_ENOMEM;
 	}

@@ -78,8 +78,11 @@ typedef struct {
 
 /* Callbacks, any of them NULL.  frame: the mesh at the first step at or
  * after a multiple of every (not at the end of the protocol: that is the
- * final mesh).  log: a row at the start, at the first step at or after a
- * multiple of log_every, and at the end of a run that stopped early;
+ * final mesh).  log: a row at the start (not of a continued run: the run
+ * it continues logged it), at the first step at or after a multiple of
+ * log_every, and at the end of a run that failed (not of one stopped:
+ * the run that continues it goes on from there, so that a run stopped
+ * and continued logs the rows of the run never stopped);
  * nonzero stops the run (a write error).  step: every 4096 steps
  * (progress).  None may change the run. */
 typedef struct {
