@@ -158,9 +158,9 @@ fails_with 1 "input ending mid-mesh: tis-relax says so" tis-relax --quiet "$T/cu
 ok "... 'unexpected end of input'" grep -q 'unexpected end of input' "$T/err" || cat "$T/err"
 fails_with 1 "input ending mid-mesh: tis-anneal says so" tis-anneal "$T/cut.mesh"
 
-# ---- stdout closed early: no death by SIGPIPE, exit 3
+# ---- stdout closed early: quiet, as SIGPIPE ends a program (tis(7))
 st=$( { tis-anneal --stage 0.2:5 --relax 0 --every 0.01 "$T/a.mesh" 2>"$T/err"; echo $? >"$T/st"; } | head -c 100 >/dev/null; cat "$T/st")
-ok "reader gone: tis-anneal exits 3 (not by SIGPIPE), one line 'closed early'" sh -c "[ $st -eq 3 ] && grep -q 'closed early' '$T/err' && [ \$(wc -l <'$T/err') -eq 1 ]"
+ok "reader gone: tis-anneal ends quietly, status 141 as by SIGPIPE" sh -c "[ $st -eq 141 ] && [ ! -s '$T/err' ]"
 
 # ---- no inf/NaN as a result with exit 0
 sed "s/^box.*/&\nparam ka 1e12/" "$T/a.mesh" >"$T/k.mesh"

@@ -68,6 +68,7 @@ static void reader(void)
 		{ "t x\n0 1\n", "!1: header has no column 'l'" },
 		{ "# t l\n", "!1: no data rows" },
 		{ "# nothing\n", "!1: no header line naming the columns" },
+		{ "", "!0: empty input: no table" },
 	};
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
 		items(bad[i].in, 2, need, got, sizeof got);
@@ -159,7 +160,7 @@ static void curves(void)
 
 int main(void)
 {
-	tap_plan(2 + 6 + 2 + 2 + 3 + 2);
+	tap_plan(2 + 7 + 2 + 2 + 3 + 2);
 	reader();
 	curves();
 	return tap_done();

@@ -24,8 +24,9 @@ void cli_init(const char *name, const char *usage, int argc, char *const argv[])
 		cli_die(EXIT_INPUT, "out of memory");
 	memcpy(cli_args, argv, ((size_t)argc + 1) * sizeof *cli_args);
 	opterr = 0; /* getopt's own messages would name argv[0], not cli_name */
-	/* a reader that goes away must not kill us in the middle of a record:
-	 * the write fails with EPIPE instead, and we say so (cli_write_error) */
+	/* a reader that goes away must not kill us before a run's files are
+	 * closed: the write fails with EPIPE instead, and cli_write_error ends
+	 * the program as SIGPIPE would have */
 	signal(SIGPIPE, SIG_IGN);
 	cli_catch_signals();
 	/* GSL's default handler aborts; libmesh checks GSL's status codes */
@@ -102,8 +103,14 @@ void cli_version(void)
 
 void cli_write_error(const char *what)
 {
-	if (errno == EPIPE)
-		cli_die(EXIT_NOCONV, "%s closed early (broken pipe): output incomplete", what);
+	/* the reader went away (| head): nobody wants the rest, and the Unix
+	 * convention is to end quietly, as SIGPIPE ends a program that does
+	 * not ignore it (status 141 in the shell; tis(7)) */
+	if (errno == EPIPE) {
+		signal(SIGPIPE, SIG_DFL);
+		raise(SIGPIPE);
+		exit(128 + SIGPIPE);
+	}
 	/* a stream whose error flag an earlier write set no longer knows why */
 	if (errno == 0)
 		cli_die(EXIT_INPUT, "%s: write error", what);

@@ -55,8 +55,9 @@ _Noreturn void cli_bad_option(char *const argv[], int c);
 _Noreturn void cli_help(const char *text);
 _Noreturn void cli_version(void);
 
-/* A failed write of what ("stdout", a file name), errno set: exit 3 for a
- * reader that went away (EPIPE), else 1. */
+/* A failed write of what ("stdout", a file name), errno set: exit 1 with
+ * a message, or for a reader that went away (EPIPE), quietly as SIGPIPE
+ * ends a program (status 141 in the shell). */
 _Noreturn void cli_write_error(const char *what);
 
 /* Close stdout and exit 0, or exit 1 on a write error. */

@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -15,8 +16,13 @@ const char *cli_input_name(const char *path)
 
 FILE *cli_open(const char *path)
 {
-	if (path == NULL || strcmp(path, "-") == 0)
+	if (path == NULL || strcmp(path, "-") == 0) {
+		/* a program started without its input would seem to hang */
+		if (isatty(0))
+			cli_warn("reading standard input, a terminal: give a file, or pipe one in "
+			         "(Ctrl-D ends the input)");
 		return stdin;
+	}
 	FILE *f = fopen(path, "r");
 	if (f == NULL)
 		cli_die(EXIT_INPUT, "%s: %s", path, strerror(errno));
@@ -31,9 +37,18 @@ int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m)
 		return 1;
 	if (st == MESH_EOF)
 		return 0;
+	if (cli_stop && st != MESH_ENOMEM)
+		cli_interrupted("while %s ended in the middle of a mesh", cli_input_name(path));
 	if (err.line > 0)
 		cli_die(EXIT_INPUT, "%s:%ld: %s", cli_input_name(path), err.line, err.msg);
 	cli_die(EXIT_INPUT, "%s: %s", cli_input_name(path), err.msg);
+}
+
+void cli_no_mesh(const char *path)
+{
+	if (cli_stop)
+		cli_interrupted("before a mesh came in");
+	cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(path));
 }
 
 mesh *cli_read_one(const char *path)
@@ -42,7 +57,7 @@ mesh *cli_read_one(const char *path)
 	long line = 0;
 	mesh *m, *more;
 	if (!cli_read_mesh(f, path, &line, &m))
-		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(path));
+		cli_no_mesh(path);
 	/* the rest of the input must be empty: a second mesh or garbage after
 	 * the first is a mistake (cat a b |), not something to ignore */
 	if (cli_read_mesh(f, path, &line, &more))

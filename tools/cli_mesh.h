@@ -7,14 +7,21 @@
 
 #include "mesh.h"
 
-/* Open a mesh input: NULL or "-" is stdin.  Exit 1 if it cannot be opened. */
+/* Open a mesh input: NULL or "-" is stdin (on a terminal, a line on
+ * stderr says that the program waits for it).  Exit 1 if it cannot be
+ * opened. */
 FILE *cli_open(const char *path);
 /* The name to use for an input in messages. */
 const char *cli_input_name(const char *path);
 
 /* Read the next mesh: 1 and *m set, 0 at the end of the stream; exit 1 with
- * "tis-foo: NAME:LINE: message" on bad input. */
+ * "tis-foo: NAME:LINE: message" on bad input, or, if the program was told
+ * to stop (cli_stop) and the input ends in the middle of a mesh (the
+ * program before it was stopped too), cli_interrupted. */
 int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m);
+/* The input held no mesh: exit 1 with "NAME: no mesh in input", or
+ * cli_interrupted if the program was told to stop. */
+_Noreturn void cli_no_mesh(const char *path);
 /* Read exactly one mesh; exit 1 if there is none, or if anything but the
  * end of the input follows it (a second mesh, garbage). */
 mesh *cli_read_one(const char *path);

@@ -1,6 +1,8 @@
 /* cli_signal.c - stopping at a clean point. */
 #include "cli.h"
 
+#include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 
 volatile sig_atomic_t cli_stop;
@@ -33,4 +35,19 @@ void cli_catch_signals(void)
 const char *cli_stop_name(void)
 {
 	return cli_stop == SIGINT ? "SIGINT" : cli_stop == SIGTERM ? "SIGTERM" : "a signal";
+}
+
+void cli_interrupted(const char *fmt, ...)
+{
+	int sig = cli_stop ? cli_stop : SIGINT;
+	fprintf(stderr, "%s: interrupted by %s ", cli_name, cli_stop_name());
+	va_list ap;
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputs(": nothing written\n", stderr);
+	fflush(stdout);
+	signal(sig, SIG_DFL);
+	raise(sig);
+	exit(128 + sig);   /* a signal that does not end a program */
 }

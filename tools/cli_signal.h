@@ -17,5 +17,14 @@ extern volatile sig_atomic_t cli_stop;
 void cli_catch_signals(void);
 /* "SIGINT" or "SIGTERM": what set cli_stop. */
 const char *cli_stop_name(void);
+/* Stopped before there was anything whole to write (its input had no
+ * whole record: the program before it was stopped too): "tis-foo:
+ * interrupted by SIGINT before ...: nothing written" (fmt says before
+ * what), and end as that signal ends a program that does not catch it
+ * (status 128 + its number in the shell: 130, 143), so that a pipeline
+ * stopped by Ctrl-C leaves from its last program either a whole, marked
+ * result (status 3) or nothing and this line (tis(7)).  cli_stop must be
+ * set. */
+_Noreturn void cli_interrupted(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
 #endif

@@ -329,7 +329,7 @@ static int one(const struct opts *o, mesh *m, const model *p, int j)
 	cli_write_mesh(m);
 	if (r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE) {
 		if (fflush(stdout) != 0)
-			cli_die(EXIT_INPUT, "write error");
+			cli_write_error("stdout");
 		cli_die(EXIT_NOCONV, "%s at t %.6g, wrote the last state",
 			r.why == ACT_END_STOP ? "interrupted" : "stopped: non-finite state", r.t_end);
 	}
@@ -353,7 +353,7 @@ static int several(const struct opts *o, const mesh *m0, const model *p, const i
 	}
 	if (bad || cli_stop) {
 		if (fflush(stdout) != 0)
-			cli_die(EXIT_INPUT, "write error");
+			cli_write_error("stdout");
 		cli_die(EXIT_NOCONV, cli_stop ? "interrupted" : "a run went non-finite");
 	}
 	return 0;

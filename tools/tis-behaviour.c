@@ -148,6 +148,8 @@ int main(int argc, char **argv)
 		fclose(in);
 	if (st == MESH_ENOMEM)
 		cli_die(EXIT_INPUT, "out of memory");
+	if (st != MESH_OK && cli_stop)
+		cli_interrupted("before %s held a whole trace", name);
 	if (st != MESH_OK)
 		cli_die(EXIT_INPUT, "%s:%ld: %s", name, err.line, err.msg);
 	if (o.network)

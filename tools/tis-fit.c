@@ -109,6 +109,9 @@ _Noreturn static void die_at(int st, const mesh_error *err)
 {
 	if (st == MESH_ENOMEM)
 		cli_die(EXIT_INPUT, "out of memory");
+	/* the program before was stopped too, before it had a whole table */
+	if (cli_stop)
+		cli_interrupted("before %s held a whole table", input_name);
 	cli_die(EXIT_INPUT, "%s:%ld: %s", input_name, err->line, err->msg);
 }
 

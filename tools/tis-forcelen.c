@@ -190,6 +190,8 @@ static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 /* The output of the sweeps of one mesh. */
 struct out {
 	const mesh *m;
+	const char *cols;  /* the header, before the first curve */
+	int *header;
 	double p0;
 	cli_progress pr;
 	int werr;          /* errno of a failed write to stdout */
@@ -198,6 +200,8 @@ struct out {
 static int write_curve(void *data, int j, const fl_point *pts, int n)
 {
 	struct out *u = data;
+	if (!(*u->header)++)
+		cli_table_header(stdout, u->m, u->cols);
 	fl_curve_write(stdout, u->p0, u->m, j, pts, n);
 	errno = 0;
 	if (fflush(stdout) != 0 || ferror(stdout)) {
@@ -249,7 +253,7 @@ int main(int argc, char **argv)
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;
-	int nmesh = 0, badpoints = 0, allpoints = 0, written = 0, asked = 0;
+	int nmesh = 0, badpoints = 0, allpoints = 0, written = 0, asked = 0, header = 0;
 	double worst = 0;
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		nmesh++;
@@ -262,12 +266,12 @@ int main(int argc, char **argv)
 		relax_input(m, &p, &o);
 		int count;
 		int *sel = select_junctions(&o, m, &count);
-		/* the header waits for a valid mesh and junction: bad input
-		 * leaves no output */
-		if (nmesh == 1)
-			cli_table_header(stdout, m, o.linear ? FL_LINEAR_COLUMNS : FL_CURVE_COLUMNS);
-
+		/* the header waits for a valid mesh and junction (bad input
+		 * leaves no output) and for a whole curve (a run stopped before
+		 * one leaves none either) */
 		if (o.linear) {
+			if (!header++)
+				cli_table_header(stdout, m, FL_LINEAR_COLUMNS);
 			fl_linear *lr;
 			int st = fl_linear_alloc_method(m, &p, 1e-10, o.method, o.max_bytes, &lr, &err);
 			if (st != MESH_OK)
@@ -282,7 +286,7 @@ int main(int argc, char **argv)
 			continue;
 		}
 
-		struct out u = { .m = m, .p0 = p.p0 };
+		struct out u = { .m = m, .cols = FL_CURVE_COLUMNS, .header = &header, .p0 = p.p0 };
 		cli_progress_init(&u.pr);
 		fl_sweeps_io io = { write_curve, progress, &u };
 		fl_sweeps_result r;
@@ -306,6 +310,8 @@ int main(int argc, char **argv)
 	}
 	if (in != stdin)
 		fclose(in);
+	if (cli_stop && !header)
+		cli_interrupted(nmesh ? "before a curve was whole" : "before a mesh came in");
 	if (cli_stop) {
 		printf("# %s interrupted by %s: %d of %d curves written%s, whole curves only\n",
 		       cli_name, cli_stop_name(), written, asked,
@@ -314,7 +320,7 @@ int main(int argc, char **argv)
 		                  "whole curves only", cli_stop_name(), written, asked);
 	}
 	if (nmesh == 0)
-		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
+		cli_no_mesh(o.input);
 	if (badpoints)
 		cli_finish_status(EXIT_NOCONV, "%d of %d points missed the force tolerance %g "
 		                  "(worst %.3g)", badpoints, allpoints, o.fl.min.ftol, worst);

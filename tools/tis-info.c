@@ -168,6 +168,6 @@ int main(int argc, char **argv)
 		frame++;
 	}
 	if (frame == 0)
-		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.path));
+		cli_no_mesh(o.path);
 	cli_finish();
 }

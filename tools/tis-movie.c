@@ -237,7 +237,7 @@ int main(int argc, char **argv)
 		}
 	}
 	if (fr.n == 0)
-		cli_die(EXIT_INPUT, "%s: no frame in input", cli_input_name(o.input));
+		cli_no_mesh(o.input);
 	/* one tension scale for the whole movie, so that colours compare */
 	double scale = o.scale;
 	for (int i = 0; i < fr.n && o.scale == 0; i++) {

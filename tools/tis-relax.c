@@ -142,7 +142,7 @@ int main(int argc, char **argv)
 	int nmesh = 0, missed = 0;
 	/* a stop request ends the stream after the mesh in hand: it is
 	 * written, relaxed as far as it got, and marked */
-	while (!cli_stop && cli_read_mesh(f, o.path, &line, &m)) {
+	while ((nmesh == 0 || !cli_stop) && cli_read_mesh(f, o.path, &line, &m)) {
 		nmesh++;
 		cli_model_set(m, &o.mp);
 		/* the relaxed mesh is a new state: a stopped run's state lines
@@ -215,12 +215,12 @@ int main(int argc, char **argv)
 		mesh_free(m);
 	}
 	if (nmesh == 0)
-		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.path));
+		cli_no_mesh(o.path);
 	if (f != stdin)
 		fclose(f);
 	if (missed && !o.accept) {
 		if (fflush(stdout) != 0 || fclose(stdout) != 0)
-			cli_die(EXIT_INPUT, "write error");
+			cli_write_error("stdout");
 		exit(EXIT_NOCONV);
 	}
 	cli_finish();

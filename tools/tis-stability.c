@@ -246,13 +246,13 @@ int main(int argc, char **argv)
 		fclose(in);
 	free(o.rate);
 	free(o.gamma0);
+	if (nmesh == 0)
+		cli_no_mesh(o.input);
 	if (cli_stop) {
 		printf("# interrupted: the table ends early\n");
 		fflush(stdout);
 		cli_die(EXIT_NOCONV, "interrupted: the table ends early");
 	}
-	if (nmesh == 0)
-		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
 	if (unstable) {
 		fflush(stdout);
 		cli_die(EXIT_INPUT, "%d of %d meshes not at a minimum (first: p0 %g, %d negative "

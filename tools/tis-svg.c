@@ -199,7 +199,7 @@ int main(int argc, char **argv)
 	mesh *m, *next = NULL;
 	int warned = 0;
 	if (!cli_read_mesh(in, o.input, &line, &m))
-		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
+		cli_no_mesh(o.input);
 	if (o.pattern == NULL) {
 		/* Check for a second mesh before writing anything, so that a
 		 * stream without -o leaves no half-made output behind. */

@@ -146,7 +146,7 @@ int main(int argc, char **argv)
 			break;   /* the stream ended: read ahead above */
 	}
 	if (n == 0)
-		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
+		cli_no_mesh(o.input);
 	for (int i = 0; i < (o.prefix ? n : 0); i++)
 		free(names[i]);
 	free(names);

@@ -159,6 +159,7 @@ int table_next(table_reader *r, table_item *item, mesh_error *err)
 		return mesh_error_set(err, r->line, MESH_EIO, "read error: %s", strerror(errno));
 	if (r->nrow == 0)
 		return mesh_error_set(err, r->line, MESH_EINVAL,
+		                      r->line == 0 ? "empty input: no table" :
 		                      r->hdr ? "no data rows" : "no header line naming the columns");
 	*item = TABLE_END;
 	return MESH_OK;
