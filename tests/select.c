@@ -4,6 +4,7 @@
  * regular junctions against a second, brute-force reading of the rule
  * (cells found by scanning every cell's vertex list, not through the
  * junction tables), on a honeycomb with and without a defect. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -96,7 +97,7 @@ static void regular_tests(void)
 
 int main(void)
 {
-	tap_plan(16);
+	tap_plan(18);
 	mesh *m;
 	mesh_error err;
 	if (lattice_honeycomb(4, 4, &m, &err) != MESH_OK)
@@ -124,6 +125,32 @@ int main(void)
 	   same(s, n, t, k) && n == 9, "random: the same draw for the same seed");
 	free(s);
 	free(t);
+	/* 9 of 48 junctions: two seeds draw the same set with probability
+	 * 1/C(48, 9), so seeds 1..6 give 6 different draws unless the seed is
+	 * ignored; and every junction is drawn about as often (3000 seeds:
+	 * each 9/48 of the time, s.d. 0.007) */
+	int differ = 1, *d[6], nd[6];
+	for (int i = 0; i < 6; i++) {
+		js.seed = (unsigned long)i + 1;
+		junction_select(m, &js, &d[i], &nd[i], &err);
+		for (int h = 0; h < i; h++)
+			differ &= !same(d[i], nd[i], d[h], nd[h]);
+	}
+	for (int i = 0; i < 6; i++)
+		free(d[i]);
+	ok(differ, "random: seeds 1 to 6 draw 6 different sets");
+	long hits[64] = { 0 };
+	for (unsigned long seed = 1; seed <= 3000; seed++) {
+		junction_select_random(m, 9, seed, &s, &n, &err);
+		for (int i = 0; i < n; i++)
+			hits[s[i]]++;
+		free(s);
+	}
+	double worst = 0;
+	for (int j = 0; j < m->nj; j++)
+		worst = fmax(worst, fabs(hits[j] / 3000.0 - 9.0 / m->nj));
+	ok(worst < 0.035, "random: each junction drawn 9/48 of the time over 3000 seeds (worst off by %.4f)",
+	   worst);
 
 	char path[] = "/tmp/tis-select-XXXXXX";
 	int fd = mkstemp(path);

@@ -5,7 +5,7 @@
 # at g0* and on eigenvalue rows of a relaxed Voronoi tissue, the network at
 # gamma0 = 0, negative modes, and bad input.
 . "$(dirname "$0")/lib.sh"
-plan 34
+plan 36
 
 tis-hex 18 18 --p0 3.65 >"$T/h18.mesh"
 tis-hex 6 6 --p0 3.65 >"$T/h6.mesh"
@@ -92,6 +92,18 @@ ok "... named with its bound" grep -q -- '--gamma0: every value must be >= 0 (go
 fails_with 2 "a junction choice given twice" tis-stability --all --all --rate 0.1 "$T/h6.mesh"
 fails_with 2 "--network with a junction choice" \
 	tis-stability --network --gamma0 0.1 --index 0 --rate 0.1 "$T/h6.mesh"
+# --p0 and --ka on a mesh that carries others: the options' model, not
+# the mesh's (the honeycomb is at rest at any p0; its g0* moves with p0)
+st() { tis-stability --index 0 --rate 0.1 "$@" | rows; }
+tis-hex 18 18 --p0 3.7 | st >"$T/p37"
+st --p0 3.7 "$T/h18.mesh" >"$T/p65to37"
+st "$T/h18.mesh" >"$T/p65"
+tis-hex 18 18 --p0 3.7 --ka 50 | st >"$T/k50"
+st --p0 3.7 --ka 50 "$T/h18.mesh" >"$T/p65to37k50"
+ok "--p0 3.7 on a mesh that carries 3.65: the rows of a mesh that carries 3.7 (not 3.65's)" \
+	sh -c "cmp -s '$T/p37' '$T/p65to37' && ! cmp -s '$T/p65' '$T/p65to37'"
+ok "--p0 3.7 --ka 50: the rows of a mesh that carries them (not ka 100's)" \
+	sh -c "cmp -s '$T/k50' '$T/p65to37k50' && ! cmp -s '$T/p37' '$T/p65to37k50'"
 # the secular equation's complex Newton stops at its rounding floor: under
 # OpenBLAS's Prescott kernels (what it picks on a CPU it does not know)
 # the 12 x 12 honeycomb's floor lies above 1e-15 of the root, and a

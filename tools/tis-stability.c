@@ -110,8 +110,8 @@ static struct opts parse(int argc, char **argv)
 			free(o.gamma0);
 			o.gamma0 = cli_double_list_above("--gamma0", optarg, &o.ngamma0, 0, 0);
 			break;
-		case O_P0: o.mo.p0 = cli_double_range("--p0", optarg, 0, 100); o.mo.has_p0 = 1; break;
-		case O_KA: o.mo.ka = cli_double_range("--ka", optarg, 0, 1e12); o.mo.has_ka = 1; break;
+		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
+		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
 		case O_DENSE: o.dense = 1; break;
 		case O_NETWORK: o.network = 1; break;
 		case O_FTOL: o.so.ftol = cli_double_range("--ftol", optarg, 1e-16, 1e6); break;
