@@ -1,8 +1,34 @@
 # lib.sh - TAP helpers for the program tests; source it, then call plan N.
 # The programs are found on PATH (make check puts bin/ first).
 set -u
+# Every test has a time limit of its own: TIS_TEST_LIMIT seconds (default
+# 900, four times that under the sanitizers; a test may set its own before
+# it sources this file).  The test runs in a process
+# group of its own (setsid), and a watchdog ends it there with everything
+# it started (SIGTERM twice, as a user stops a tis program, then SIGKILL)
+# and fails it, so that a change that makes a program hang fails that test
+# instead of holding make check or make mutate, and leaves nothing running.
+if [ -z "${TIS_TEST_GROUP:-}" ] && command -v setsid >/dev/null 2>&1; then
+	TIS_TEST_GROUP=1 exec setsid -w /bin/sh "$0" "$@"
+fi
 T=$(mktemp -d "${TMPDIR:-/tmp}/tis-test.XXXXXX")
-trap 'rm -rf "$T"' EXIT
+_limit=${TIS_TEST_LIMIT:-900}
+[ -n "${TIS_SAN:-}" ] && _limit=$((_limit * 4))
+_watchdog=
+if [ -n "${TIS_TEST_GROUP:-}" ]; then
+	(
+		sleep "$_limit" </dev/null >/dev/null 2>&1 & _s=$!
+		trap 'kill $_s 2>/dev/null; exit 0' TERM
+		wait $_s || exit 0
+		trap '' TERM INT
+		echo "not ok - the test's time limit: ended after $_limit s (TIS_TEST_LIMIT), with every program it started"
+		kill -TERM 0; sleep 2; kill -TERM 0; sleep 2
+		rm -rf "$T"
+		kill -KILL 0
+	) &
+	_watchdog=$!
+fi
+trap '[ -n "$_watchdog" ] && kill $_watchdog 2>/dev/null; rm -rf "$T"' EXIT
 n=0
 failed=0
 plan() { echo "1..$1"; }

@@ -5,10 +5,21 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
 
 static int tap_n, tap_failed;
 
-static void tap_plan(int n) { printf("1..%d\n", n); }
+/* The plan, and the test's time limit (as tests/lib.sh gives the shell
+ * tests): TIS_TEST_LIMIT seconds, default 900, four times that under the
+ * sanitizers; past it SIGALRM ends the test, and prove fails it. */
+static void tap_plan(int n)
+{
+	const char *e = getenv("TIS_TEST_LIMIT"), *san = getenv("TIS_SAN");
+	unsigned limit = e && atoi(e) > 0 ? (unsigned)atoi(e) : 900;
+	alarm(san && *san ? 4 * limit : limit);
+	printf("1..%d\n", n);
+}
 
 static int ok(int cond, const char *fmt, ...) __attribute__((format(printf, 2, 3), unused));
 static int ok(int cond, const char *fmt, ...)
