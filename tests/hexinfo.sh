@@ -1,7 +1,7 @@
 #!/bin/sh
 # tis-hex and tis-info on real pipes: counts, energy, checks, usage errors.
 . "$(dirname "$0")/lib.sh"
-plan 23
+plan 25
 
 tis-hex 18 18 >"$T/h.mesh"
 ok "tis-hex 18 18 | tis-info --check passes" sh -c "tis-hex 18 18 | tis-info --check"
@@ -42,4 +42,12 @@ if [ -w /dev/full ]; then
 else
 	skip 1 "no /dev/full"
 fi
+# --vertices: every vertex, its force -grad W; the largest norm is max_force
+tis-hex 6 6 | awk '/^vertices/ { v = 1; print; next } v == 1 { $1 += 0.01; v = 2 } 1' >"$T/pv.mesh"
+tis-info --vertices "$T/pv.mesh" >"$T/v.tsv"
+want=$(tis-info "$T/pv.mesh" | awk '$1 == "max_force" { print $2 }')
+ok "--vertices: 72 vertices, the largest force norm is max_force ($want)" sh -c "
+	[ \"\$(awk -F'\t' '\$1 == \$1 + 0' '$T/v.tsv' | wc -l)\" -eq 72 ] &&
+	awk -F'\t' '\$1 == \$1 + 0 { n = sqrt(\$6 * \$6 + \$7 * \$7); if (n > m) m = n } END { exit !(sprintf(\"%.6g\", m) == \"$want\") }' '$T/v.tsv'"
+fails_with 2 "--vertices with --cells: a usage error" tis-info --vertices --cells "$T/pv.mesh"
 done_testing

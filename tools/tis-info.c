@@ -8,7 +8,7 @@
 #include "measure.h"
 
 static const char usage[] =
-	"[--check | --tsv | --cells | --junctions] [--p0 X] [--ka Y] [MESH]";
+	"[--check | --tsv | --cells | --junctions | --vertices] [--p0 X] [--ka Y] [MESH]";
 static const char help[] =
 	"Print statistics of every mesh in a tismesh stream (file or stdin):\n"
 	"counts, side histogram, hexagon fraction f6, energy, largest vertex\n"
@@ -18,6 +18,7 @@ static const char help[] =
 	"  --tsv        a table, one row per frame, instead of key value lines\n"
 	"  --cells      a table, one row per cell of every frame\n"
 	"  --junctions  a table, one row per junction of every frame\n"
+	"  --vertices   a table, one row per vertex of every frame\n"
 	"  --p0 X       shape index for the energy (default: the mesh's, else 3.6)\n"
 	"  --ka Y       area modulus for the energy (default: the mesh's, else 100)\n"
 	"  -h, --help   this help\n"
@@ -30,9 +31,10 @@ static const char help[] =
 	"max_length mean_shape area_error t p0 ka lx ly.  --cells: frame t cell\n"
 	"sides area perimeter shape cx cy (shape = P/sqrt(A), c the centroid).\n"
 	"--junctions: frame t j a b c1 c2 length tension dg (tension = 2(P1-p0)\n"
-	"+ 2(P2-p0) + dg, dg the active tension).\n";
+	"+ 2(P2-p0) + dg, dg the active tension).  --vertices: frame t v x y fx fy\n"
+	"(f = -grad W, the force on the vertex; max_force is its largest norm).\n";
 
-enum { OUT_KEYS, OUT_CHECK, OUT_TSV, OUT_CELLS, OUT_JUNCTIONS };
+enum { OUT_KEYS, OUT_CHECK, OUT_TSV, OUT_CELLS, OUT_JUNCTIONS, OUT_VERTICES };
 
 struct opts {
 	int out;
@@ -43,7 +45,7 @@ struct opts {
 static void set_out(struct opts *o, int out)
 {
 	if (o->out != OUT_KEYS && o->out != out)
-		cli_usage_error("choose one of --check, --tsv, --cells, --junctions");
+		cli_usage_error("choose one of --check, --tsv, --cells, --junctions, --vertices");
 	o->out = out;
 }
 
@@ -54,6 +56,7 @@ static struct opts parse(int argc, char **argv)
 		{ "tsv", no_argument, NULL, 't' },
 		{ "cells", no_argument, NULL, 'C' },
 		{ "junctions", no_argument, NULL, 'J' },
+		{ "vertices", no_argument, NULL, 'v' },
 		{ "p0", required_argument, NULL, 'p' },
 		{ "ka", required_argument, NULL, 'k' },
 		{ "help", no_argument, NULL, 'h' },
@@ -68,6 +71,7 @@ static struct opts parse(int argc, char **argv)
 		case 't': set_out(&o, OUT_TSV); break;
 		case 'C': set_out(&o, OUT_CELLS); break;
 		case 'J': set_out(&o, OUT_JUNCTIONS); break;
+		case 'v': set_out(&o, OUT_VERTICES); break;
 		case 'p': cli_model_option(&o.mo, "p0", optarg); break;
 		case 'k': cli_model_option(&o.mo, "ka", optarg); break;
 		case 'h': cli_help(help);
@@ -107,6 +111,7 @@ static const char *columns[] = {
 	            "\tmax_length\tmean_shape\tarea_error\tt\tp0\tka\tlx\tly",
 	[OUT_CELLS] = "frame\tt\tcell\tsides\tarea\tperimeter\tshape\tcx\tcy",
 	[OUT_JUNCTIONS] = "frame\tt\tj\ta\tb\tc1\tc2\tlength\ttension\tdg",
+	[OUT_VERTICES] = "frame\tt\tv\tx\ty\tfx\tfy",
 };
 
 static void print_rows(const struct opts *o, long frame, const mesh *m, const model *p)
@@ -128,6 +133,18 @@ static void print_rows(const struct opts *o, long frame, const mesh *m, const mo
 			printf("%ld\t%.10g\t%d\t%d\t%.12g\t%.12g\t%.12g\t%.12g\t%.12g\n", frame, t,
 			       k, c.sides, c.area, c.perimeter, c.shape, c.cx, c.cy);
 		}
+	} else if (o->out == OUT_VERTICES) {
+		/* the force on each vertex, -grad W, from the kernel itself */
+		energy_ws *w = energy_ws_alloc(m);
+		double *g = malloc((2 * (size_t)m->nv + 1) * sizeof *g);
+		if (w == NULL || g == NULL)
+			cli_die(EXIT_INPUT, "out of memory");
+		mesh_energy(m, m->r, p, g, w);
+		for (int v = 0; v < m->nv; v++)
+			printf("%ld\t%.10g\t%d\t%.17g\t%.17g\t%.12g\t%.12g\n", frame, t, v, m->r[2 * v],
+			       m->r[2 * v + 1], -g[2 * v] + 0.0, -g[2 * v + 1] + 0.0);
+		energy_ws_free(w);
+		free(g);
 	} else {
 		double *perim = malloc(((size_t)m->nc + 1) * sizeof *perim);
 		if (perim == NULL)

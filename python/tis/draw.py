@@ -8,7 +8,7 @@ import numpy as np
 
 # tis-svg's side-count palette (libmesh/draw/svg.c): 3, 4, ..., 8, 9+
 SIDE_COLOURS = ["#ffd92f", "#a77cc6", "#5fa8d3", "#ffffff", "#f28e4b", "#6a3d9a", "#b2182b"]
-CELL_QUANTITIES = ("sides", "area", "perimeter", "shape")
+CELL_QUANTITIES = ("sides", "area", "perimeter", "shape_index", "shape")
 
 
 def _shifts(lo, hi, l):
@@ -74,7 +74,7 @@ def _cell_values(mesh, color):
             return mesh.areas()
         if color == "perimeter":
             return mesh.perimeters()
-        if color == "shape":
+        if color in ("shape_index", "shape"):
             return mesh.shape_index()
         raise ValueError("color: a per-cell array or one of %s, not %r" % (", ".join(CELL_QUANTITIES), color))
     v = np.asarray(color, dtype=float)
@@ -89,7 +89,8 @@ def draw(mesh, ax=None, color=None, cmap="viridis", vmin=None, vmax=None,
     """Draw mesh on ax (a new figure's if None) and return ax.
 
     color: None (side counts in tis-svg's colours), a per-cell array, or
-    "sides", "area", "perimeter", "shape"; cmap, vmin, vmax its colour map.
+    "sides", "area", "perimeter", "shape_index" (or "shape"); cmap, vmin,
+    vmax its colour map.
     junctions: "tension" (2 (P1 - p0) + 2 (P2 - p0) + dg, as tis-info),
     "dg" (active tension), a per-junction array, or None for plain dark
     edges; jcmap its (diverging, centred on 0) map.  highlight: junction

@@ -346,14 +346,53 @@ class Mesh:
                          self.tensions.copy(), tension)
 
     def cell_table(self):
-        """The table tis-info --cells prints (without frame and t), in pandas."""
+        """The table tis-info --cells prints (without frame and t), in
+        pandas; its column shape is named shape_index here (as the method),
+        since DataFrame.shape is the frame's dimensions."""
         import pandas as pd
         area, cen = self._areas_centroids()
         per = self.perimeters()
         with np.errstate(invalid="ignore", divide="ignore"):
             shape = np.where(area > 0, per / np.sqrt(np.abs(area)), np.nan)
         return pd.DataFrame({"cell": np.arange(self.nc), "sides": self.sides(), "area": area,
-                             "perimeter": per, "shape": shape, "cx": cen[:, 0], "cy": cen[:, 1]})
+                             "perimeter": per, "shape_index": shape, "cx": cen[:, 0],
+                             "cy": cen[:, 1]})
+
+    # -- the model: energy and forces --
+    def energy(self, p0=None, ka=None):
+        """W = sum over cells of ka (A - 1)^2 + (P - p0)^2 (tis(7)), with
+        the mesh's p0 and ka (or those given), from areas() and
+        perimeters(): tis-info's energy to 12 digits (python/tests)."""
+        p0 = self.p0 if p0 is None else p0
+        ka = self.ka if ka is None else ka
+        return float(np.sum(ka * (self.areas() - 1) ** 2 + (self.perimeters() - p0) ** 2))
+
+    def forces(self, p0=None, ka=None):
+        """The force -grad W on every vertex (nv x 2), with the mesh's p0
+        and ka (or those given), computed by the library's own kernel:
+        tis-info --vertices through a pipe (the programs must be on PATH
+        or in $TIS_BIN), never a second implementation of it."""
+        from .pipeline import run
+        args = ["tis-info", "--vertices"]
+        if p0 is not None:
+            args += ["--p0", repr(float(p0))]
+        if ka is not None:
+            args += ["--ka", repr(float(ka))]
+        t = run(args, self, output="table", check=True)
+        return np.column_stack([np.asarray(t["fx"], dtype=float), np.asarray(t["fy"], dtype=float)])
+
+    def vertex_table(self, forces=False, p0=None, ka=None):
+        """The vertices in pandas (as tyssue's vertex table): v, x, y, and
+        the number of cells at each; with forces=True also fx, fy
+        (forces(p0, ka): the table tis-info --vertices prints)."""
+        import pandas as pd
+        ncell = np.bincount(self.cell_vertices, minlength=self.nv)
+        df = pd.DataFrame({"v": np.arange(self.nv), "x": self.vertices[:, 0],
+                           "y": self.vertices[:, 1], "cells": ncell})
+        if forces:
+            f = self.forces(p0, ka)
+            df["fx"], df["fy"] = f[:, 0], f[:, 1]
+        return df
 
     def wrap(self):
         """Move every vertex into the box (what a writer does)."""
@@ -804,9 +843,16 @@ def _open(file, mode):
 
 
 def read_meshes(file):
-    """Every mesh of a tismesh 1 stream (tis-mesh(5), 'Streams'), one after
-    another: an iterator.  file: a path, '-' (stdin) or an open file (text
-    or binary).  Raises MeshError on a malformed mesh, with its line."""
+    """Every mesh of a tismesh 1 stream (tis-mesh(5), 'Streams'): a list.
+    file: a path, '-' (stdin) or an open file (text or binary).  Raises
+    MeshError on a malformed mesh, with its line.  iter_meshes reads them
+    one at a time (a long run's frames without holding them all)."""
+    return list(iter_meshes(file))
+
+
+def iter_meshes(file):
+    """The meshes of a stream one after another, as read_meshes reads them:
+    an iterator."""
     f, name, close = _open(file, "rb")
     try:
         rd = _Lines(f, name)
@@ -889,11 +935,26 @@ def _format(m):
     return "".join(out)
 
 
+def _checked(m, k):
+    """m in tismesh 1, after the reader's rules on what it will read (the
+    wrapped coordinates): a writer never writes a mesh a reader rejects
+    (tis(7)), such as one whose edited vertices turned a cell inside out."""
+    text = _format(m)
+    try:
+        mesh_from_text(text, "<mesh %d>" % k)
+    except MeshError as e:
+        raise MeshError("the mesh would not read back (%s): not written" % e.msg, 0,
+                        "<mesh %d>" % k) from None
+    return text
+
+
 def write_mesh(mesh, file):
     """Write one mesh (or a list of meshes, a stream) in tismesh 1, byte
-    for byte as the tools write it; file: a path, '-' or an open file."""
+    for byte as the tools write it; file: a path, '-' or an open file.
+    Each is checked first as the tools' reader checks it: MeshError, and
+    nothing written, if one would not read back."""
     meshes = [mesh] if isinstance(mesh, Mesh) else list(mesh)
-    text = "".join(_format(m) for m in meshes)
+    text = "".join(_checked(m, k) for k, m in enumerate(meshes))
     if isinstance(file, (str, os.PathLike)) and str(file) != "-":
         with open(file, "wb") as f:
             f.write(text.encode("utf-8", "surrogateescape"))
