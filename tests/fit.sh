@@ -6,7 +6,7 @@
 # form), Gaussian noise of known variance (errors of the right size),
 # fres_max over the points fitted only, and --summary's quartiles.
 . "$(dirname "$0")/lib.sh"
-plan 22
+plan 26
 
 # table COEFS [NOISE]: the table of one junction per COEFS ("p0 j a b l0 c0
 # c1 c2 c3 c4 c5"), the points l0 + h k, |k| <= K (env H, K), rest at k = 0
@@ -41,7 +41,7 @@ rel() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; if (d < 0) d = -d;
 # 1. an exact quintic, the default degree 5 and window 0.1: 41 points
 echo "3.65 7 11 12 0.62 0.001 -1.5 0.3 -2.4 5 -7" | table >"$T/q.tsv"
 tis-fit "$T/q.tsv" >"$T/q.fit"
-ok "the columns" test "$(names "$T/q.fit")" = "$(printf 'p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\tfres_max')"
+ok "the columns" test "$(names "$T/q.fit")" = "$(printf 'p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\tfres_max\ta4\ta4_err\ta5\ta5_err')"
 ok "p0 j a b l0 of the curve, n = 41 (the window's points of the out branch)" \
 	test "$(rows "$T/q.fit" | cut -f1-6)" = "$(printf '3.65\t7\t11\t12\t0.62\t41')"
 ok "quintic: a0 = 0.001" rel "$(col "$T/q.fit" a0)" 0.001 1e-7
@@ -112,4 +112,21 @@ ok "--summary: p0 3.65, 5 junctions, a1 quartiles -4 -3 -2, a3 quartiles 20 30 4
 # 6. fres: a point in the window over --max-fres is left out
 ok "--max-fres 1.1e-12: only the points with fres <= 1.1e-12 (|k| <= 10: 21)" \
 	test "$(tis-fit --max-fres 1.1e-12 "$T/q.tsv" | rows | cut -f6)" = 21
+# 7. the whole polynomial: a degree above 3 writes a4 .. aN after fres_max,
+# and the row rebuilds the curve (its rms residual at the fitted points,
+# from the table's coefficients, is the rms it states); below 3 the
+# coefficients not fitted are nan, not 0
+tis-hex 18 18 --p0 3.70 | tis-forcelen --index 0 --no-back 2>/dev/null >"$T/h.tsv"
+tis-fit "$T/h.tsv" >"$T/h5.fit"
+ok "degree 5 (the default): a4 a4_err a5 a5_err after fres_max" \
+	test "$(names "$T/h5.fit" | cut -f15-)" = "$(printf 'fres_max\ta4\ta4_err\ta5\ta5_err')"
+ok "... and a0 .. a5 rebuild the fitted curve: the rms residual it states" sh -c "
+	awk -F'\t' 'NR == FNR { if (\$1 == \$1 + 0) { for (k = 0; k <= 5; k++) a[k] = \$(k == 0 ? 7 : k <= 3 ? 6 + 2 * k : 8 + 2 * k); want = \$14; m = \$6 }; next }
+		\$1 == \$1 + 0 && (\$7 - \$5) ^ 2 <= 0.01 + 1e-12 { u = \$7 - \$5; p = 0; for (k = 5; k >= 0; k--) p = p * u + a[k]; s += (p - \$8) ^ 2; n++ }
+		END { r = sqrt(s / n); exit !(n == m && (r - want) ^ 2 <= (0.01 * want) ^ 2) }' '$T/h5.fit' '$T/h.tsv'"
+rows "$T/q.fit" >"$T/q.row"
+ok "the exact quintic's a4 and a5: 5 and -7" awk -F'\t' '{ d4 = $16 - 5; d5 = $18 + 7; exit !(d4 * d4 < 1e-12 && d5 * d5 < 1e-10) }' "$T/q.row"
+tis-fit --degree 2 "$T/h.tsv" | rows >"$T/h2.row"
+ok "--degree 2: a3 and a3_err nan, no columns past fres_max" \
+	sh -c "[ \"\$(cut -f12,13 '$T/h2.row')\" = \"\$(printf 'nan\tnan')\" ] && [ \$(awk -F'\t' '{ print NF }' '$T/h2.row') -eq 15 ]"
 done_testing

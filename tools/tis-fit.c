@@ -27,9 +27,11 @@ static const char help[] =
 	"  -h, --help       this help\n"
 	"  --version        print the version\n"
 	"\n"
-	"Fit columns: p0 j a b l0 n a0 a1 a1_err a2 a2_err a3 a3_err rms fres_max\n"
-	"(n points, standard errors from the residuals, rms residual, fres_max the\n"
-	"largest fres of the points fitted, nan if the table has no fres).  Summary:\n"
+	"Fit columns: p0 j a b l0 n a0 a1 a1_err a2 a2_err a3 a3_err rms fres_max,\n"
+	"then a4 a4_err .. aN aN_err for a degree N above 3 (n points, standard\n"
+	"errors from the residuals, rms residual, fres_max the largest fres of the\n"
+	"points fitted, nan if the table has no fres; a coefficient above the\n"
+	"degree is nan, not fitted).  Summary:\n"
 	"p0 n a1_q1 a1_med a1_q3 a3_q1 a3_med a3_q3.  Cusps: p0 j a b l0 from to\n"
 	"npts has_l0.  Input: '#' lines are provenance; the first other line\n"
 	"names the columns (an old '# p0 j ...' line naming them works too); a\n"
@@ -144,11 +146,16 @@ static void finish_curve(const struct opts *o, fit_curve *c, fit_groups *groups)
 	if (o->summary) {
 		if (fit_groups_add(groups, c->p0, fit_coef(&r, 1), fit_coef(&r, 3)) != MESH_OK)
 			cli_die(EXIT_INPUT, "out of memory");
-	} else
-		printf("%.10g\t%ld\t%ld\t%ld\t%.12g\t%d\t%.8g\t%.10g\t%.3g\t%.10g\t%.3g\t%.10g\t%.3g\t%.3g\t%.3g\n",
+	} else {
+		printf("%.10g\t%ld\t%ld\t%ld\t%.12g\t%d\t%.8g\t%.10g\t%.3g\t%.10g\t%.3g\t%.10g\t%.3g\t%.3g\t%.3g",
 		       c->p0, c->j, c->a, c->b, c->l0, r.n, r.a[0], fit_coef(&r, 1), fit_coef_se(&r, 1),
 		       fit_coef(&r, 2), fit_coef_se(&r, 2), fit_coef(&r, 3), fit_coef_se(&r, 3), r.rms,
 		       c->fres_max);
+		/* the rest of the polynomial, so that the curve can be rebuilt */
+		for (int k = 4; k <= o->degree; k++)
+			printf("\t%.10g\t%.3g", fit_coef(&r, k), fit_coef_se(&r, k));
+		putchar('\n');
+	}
 	fit_curve_clear(c);
 }
 
@@ -165,9 +172,12 @@ int main(int argc, char **argv)
 	prov = mesh_alloc(1, 1);
 	if (rd == NULL || prov == NULL)
 		cli_die(EXIT_INPUT, "out of memory");
-	const char *cols = o.cusps ? "p0\tj\ta\tb\tl0\tfrom\tto\tnpts\thas_l0"
+	char cols[512];
+	snprintf(cols, sizeof cols, "%s", o.cusps ? "p0\tj\ta\tb\tl0\tfrom\tto\tnpts\thas_l0"
 		: o.summary ? "p0\tn\ta1_q1\ta1_med\ta1_q3\ta3_q1\ta3_med\ta3_q3"
-		: "p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\tfres_max";
+		: "p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\tfres_max");
+	for (int k = 4; k <= o.degree && !o.cusps && !o.summary; k++)
+		snprintf(cols + strlen(cols), sizeof cols - strlen(cols), "\ta%d\ta%d_err", k, k);
 	fit_cols col;
 	long rows = 0;
 	int interrupted = 0;

@@ -186,6 +186,15 @@ static int cmp_d(const void *x, const void *y)
 
 double fit_quantile(int n, double *v, double q)
 {
+	/* NaNs (a coefficient above a fit's degree) are not values: last */
+	int k = 0;
+	for (int i = 0; i < n; i++)
+		if (!isnan(v[i])) {
+			double x = v[i];
+			v[i] = v[k];
+			v[k++] = x;
+		}
+	n = k;
 	if (n <= 0)
 		return NAN;
 	qsort(v, n, sizeof *v, cmp_d);

@@ -50,8 +50,8 @@ int fit_cusps(int n, const double *l, const double *f, double l0, double thr,
               fit_cusp *out, int maxout);
 
 /* Quantile q in [0,1] of n values (linear interpolation between order
- * statistics, the "type 7" rule); the values are sorted in place.  NaN
- * for n = 0. */
+ * statistics, the "type 7" rule) leaving out NaNs; the values are
+ * reordered in place.  NaN when none is a number. */
 double fit_quantile(int n, double *v, double q);
 
 #endif

@@ -131,12 +131,12 @@ void fit_curve_free(fit_curve *c)
 
 double fit_coef(const fit_result *r, int k)
 {
-	return r->degree >= k ? r->a[k] : 0;
+	return r->degree >= k ? r->a[k] : NAN;
 }
 
 double fit_coef_se(const fit_result *r, int k)
 {
-	return r->degree >= k ? r->se[k] : 0;
+	return r->degree >= k ? r->se[k] : NAN;
 }
 
 int fit_curve_cusps(const fit_curve *c, double thr, fit_cusp **out)

@@ -66,7 +66,8 @@ int fit_curve_add(fit_curve *c, double l, double f, double fres, int in_fit);
 void fit_curve_clear(fit_curve *c);
 void fit_curve_free(fit_curve *c);
 
-/* Coefficient k of a fit and its standard error: 0 above its degree. */
+/* Coefficient k of a fit and its standard error: NaN above its degree
+ * (not fitted, which is not 0). */
 double fit_coef(const fit_result *r, int k);
 double fit_coef_se(const fit_result *r, int k);
 
