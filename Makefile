@@ -1,7 +1,8 @@
 # tis - vertex-model tissue mechanics.  See README.md.
 #
 #   make              libmesh/libmesh.a and the programs in bin/
-#   make check        every test through prove (SAN=1: with ASan and UBSan)
+#   make check        every test through prove (SAN=1: with ASan and UBSan);
+#                     make check-slow: every shipped sample remade, ...
 #   make bench        benchmarks in bench/, results in bench/RESULTS.md
 #   make figures      figures/*.png (gnuplot): a1, a3 against p0, f(l) curves
 #   make demo         installs what is missing, builds, runs the default job
@@ -73,7 +74,7 @@ MAN1 = $(wildcard man/*.1)
 MAN5 = $(wildcard man/*.5)
 MAN7 = $(wildcard man/*.7)
 
-.PHONY: all check mutate bench demo deps install uninstall clean samples figures fuzz fuzz-build studies
+.PHONY: all check check-slow mutate bench demo deps install uninstall clean samples figures fuzz fuzz-build studies
 
 all: $(LIB) $(PROGS)
 
@@ -113,6 +114,13 @@ check: $(LIB) $(PROGS) $(UNITS)
 	TIS_BIN=$(CURDIR)/$(O)bin PATH="$(CURDIR)/$(O)bin:$$PATH" \
 	  TIS_SAN="$(SAN)" TIS_SANFLAGS="$(SANFLAGS)" TIS_LIBOBJ=$(CURDIR)/$(O)libmesh \
 	  prove -j2 $(UNITS) $(SHELL_TESTS)
+
+# The slow checks make check samples once: every shipped sample remade
+# from its own history lines and compared with the file, cell by cell
+# (tests/samples.sh): about 10 CPU minutes.
+check-slow: $(LIB) $(PROGS)
+	TIS_BIN=$(CURDIR)/$(O)bin PATH="$(CURDIR)/$(O)bin:$$PATH" TIS_SLOW=1 \
+	  prove -v tests/samples.sh
 
 # Single-line mutations of the code (tests/mutate/list), each in a scratch
 # copy of the tree, rebuilt and tested there: every one must be caught.
