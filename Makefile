@@ -117,10 +117,11 @@ check: $(LIB) $(PROGS) $(UNITS)
 
 # The slow checks make check samples once: every shipped sample remade
 # from its own history lines and compared with the file, cell by cell
-# (tests/samples.sh): about 10 CPU minutes.
+# (tests/samples.sh), and every document number tests/docs.sh knows: about
+# 12 CPU minutes.
 check-slow: $(LIB) $(PROGS)
 	TIS_BIN=$(CURDIR)/$(O)bin PATH="$(CURDIR)/$(O)bin:$$PATH" TIS_SLOW=1 \
-	  prove -v tests/samples.sh
+	  prove -v tests/samples.sh tests/docs.sh
 
 # Single-line mutations of the code (tests/mutate/list), each in a scratch
 # copy of the tree, rebuilt and tested there: every one must be caught.
@@ -143,11 +144,15 @@ TESTDEBS = python3-pandas python3-numpy python3-matplotlib python3-pytest ffmpeg
 # the sweeps (studies/): GNU parallel; the SLURM test: slurm-wlm
 SWEEPDEBS = parallel procps slurm-wlm
 FIGDEBS = gnuplot-nox
+# what make demo uses beyond the build: ffmpeg for its movie (optional:
+# without it the demo says so and makes no movie)
+DEMODEBS = ffmpeg
 deps:
-	@./.ci/deps $(DEBS)
+	@./.ci/deps $(DEBS) $(DEMODEBS)
 
 demo:
 	@./.ci/deps --quiet $(DEBS)
+	@./.ci/deps --quiet $(DEMODEBS) || echo "demo: ffmpeg is optional: without it no movie"
 	@$(MAKE) --no-print-directory all
 	@PATH="$(CURDIR)/bin:$$PATH" ./samples/demo.sh
 
@@ -173,12 +178,23 @@ INCDIR = $(PREFIX)/include/tis
 PCDIR = $(LIBDIR)/pkgconfig
 DOCDIR = $(PREFIX)/share/doc/tis
 DOCS = README.md LICENSE CITATION.cff doc/DESIGN.md doc/relax-energy.c bench/RESULTS.md
+# The shipped samples (not make -C samples large's), which the programs
+# find by the name samples/NAME.mesh (tis(7), FILES)
+SAMPLEDIR = $(PREFIX)/share/tis/samples
+SAMPLES = $(sort $(wildcard samples/disordered-[0-9].mesh samples/ordered-[0-9][0-9].mesh))
 # The Python module (python/tis) goes where Debian's python3 looks for a
-# prefix's modules: PREFIX/lib/python3.N/dist-packages (on sys.path for
-# /usr/local and /usr); the example beside the documentation.
+# prefix's modules: PREFIX/lib/python3.N/dist-packages for /usr/local and
+# /usr, the user's site-packages for PREFIX=$$HOME/.local, else
+# PREFIX/lib/python3.N/site-packages (on PYTHONPATH); the example beside
+# the documentation.
 PYTHON ?= /usr/bin/python3
 PYVER := $(shell $(PYTHON) -c 'import sys; print("python%d.%d" % sys.version_info[:2])' 2>/dev/null || echo python3)
-PYDIR ?= $(PREFIX)/lib/$(PYVER)/dist-packages
+ifndef PYDIR
+PYDIR := $(shell $(PYTHON) -c 'import os, site, sys; p = os.path.abspath(sys.argv[1]); \
+  print(site.USER_SITE if p == os.path.abspath(site.USER_BASE) else os.path.join(p, "lib", sys.argv[2], \
+  "dist-packages" if p in ("/usr", "/usr/local") else "site-packages"))' '$(PREFIX)' '$(PYVER)' 2>/dev/null || \
+  echo '$(PREFIX)/lib/$(PYVER)/dist-packages')
+endif
 PY_SRC = $(sort $(wildcard python/tis/*.py))
 PY_EXAMPLES = $(sort $(wildcard python/examples/*.py))
 
@@ -198,6 +214,8 @@ install: all
 	  'Libs.private: $(LIBS)' >$(DESTDIR)$(PCDIR)/tis.pc
 	install -m 644 $(DOCS) $(DESTDIR)$(DOCDIR)
 	install -m 644 samples/README.md $(DESTDIR)$(DOCDIR)/samples.md
+	install -d $(DESTDIR)$(SAMPLEDIR)
+	install -m 644 $(SAMPLES) $(DESTDIR)$(SAMPLEDIR)
 	install -d $(DESTDIR)$(PYDIR)/tis $(DESTDIR)$(DOCDIR)/python
 	install -m 644 $(PY_SRC) $(DESTDIR)$(PYDIR)/tis
 	install -m 644 $(PY_EXAMPLES) $(DESTDIR)$(DOCDIR)/python
@@ -209,9 +227,10 @@ uninstall:
 	  $(MAN7:man/%=$(DESTDIR)$(PREFIX)/share/man/man7/%) \
 	  $(addprefix $(DESTDIR)$(INCDIR)/,$(notdir $(LIB_H))) $(DESTDIR)$(LIBDIR)/libtis.a \
 	  $(DESTDIR)$(PCDIR)/tis.pc $(addprefix $(DESTDIR)$(DOCDIR)/,$(notdir $(DOCS)) samples.md) \
-	  $(PY_SRC:python/tis/%=$(DESTDIR)$(PYDIR)/tis/%) $(PY_EXAMPLES:python/examples/%=$(DESTDIR)$(DOCDIR)/python/%)
+	  $(PY_SRC:python/tis/%=$(DESTDIR)$(PYDIR)/tis/%) $(PY_EXAMPLES:python/examples/%=$(DESTDIR)$(DOCDIR)/python/%) \
+	  $(SAMPLES:samples/%=$(DESTDIR)$(SAMPLEDIR)/%)
 	rm -rf $(DESTDIR)$(PYDIR)/tis/__pycache__
-	-rmdir $(DESTDIR)$(PYDIR)/tis $(DESTDIR)$(DOCDIR)/python 2>/dev/null
+	-rmdir $(DESTDIR)$(PYDIR)/tis $(DESTDIR)$(DOCDIR)/python $(DESTDIR)$(SAMPLEDIR) $(DESTDIR)$(PREFIX)/share/tis 2>/dev/null
 	-rmdir $(DESTDIR)$(INCDIR) $(DESTDIR)$(DOCDIR) 2>/dev/null
 
 # make fuzz: every fuzz/*.c is a libFuzzer harness (clang, ASan + UBSan,

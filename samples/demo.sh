@@ -10,6 +10,13 @@
 # Debian's ffmpeg).  Everything it writes goes to demo-out/.
 set -eu
 cd "$(dirname "$0")/.."
+# what is optional, first: the movie needs Debian's ffmpeg (make deps
+# installs it, as make demo does when run as root)
+if command -v ffmpeg >/dev/null 2>&1; then
+	echo "demo: ffmpeg found: the movie at the end too"
+else
+	echo "demo: no ffmpeg: everything but the movie at the end (apt-get install ffmpeg, or make deps as root)"
+fi
 out=demo-out
 p0=${P0:-3.70}
 mkdir -p "$out"

@@ -2,16 +2,16 @@
 # The Python module (python/tis): its pytest suite (python/tests: round
 # trips against the C reader and writer, tis-info's tables, malformed
 # meshes, every table of the suite, drawing and pipelines), the
-# notebook-style example python/examples/junction.py and the README's
-# example.  Skipped with a message where python3-numpy or python3-pytest
+# notebook-style example python/examples/junction.py, the README's
+# example, and pip install into a scratch virtual environment.  Skipped with a message where python3-numpy or python3-pytest
 # (or, for the examples, python3-matplotlib and python3-pandas) is missing.
 . "$(dirname "$0")/lib.sh"
-plan 3
+plan 4
 top=$(cd "$(dirname "$0")/.." && pwd)
 PY=${PYTHON:-/usr/bin/python3}
 
 if ! "$PY" -c 'import numpy, pytest' 2>/dev/null; then
-	skip 3 "python3-numpy or python3-pytest missing"
+	skip 4 "python3-numpy or python3-pytest missing"
 	done_testing; exit
 fi
 # -p no:cacheprovider: nothing written into the source tree
@@ -38,5 +38,23 @@ if "$PY" -c 'import matplotlib, pandas' 2>/dev/null; then
 		grep -q '324 cells' out && grep -q a1 out && test -s tissue.png || { cat err; exit 1; }"
 else
 	skip 2 "python3-matplotlib or python3-pandas missing"
+fi
+# pip install from the repository into a scratch virtual environment,
+# offline with Debian's setuptools (from a copy of python/: pip builds in
+# the source directory), then import tis there, away from the tree
+if "$PY" -c 'import venv, ensurepip, setuptools' 2>/dev/null; then
+	cp -r "$top/python" "$T/src" && rm -rf "$T/src/build" "$T/src/"*.egg-info
+	"$PY" -m venv --system-site-packages "$T/venv" >"$T/venv.log" 2>&1 &&
+		"$T/venv/bin/pip" install --no-build-isolation --no-index "$T/src" >>"$T/venv.log" 2>&1
+	d="pip install --no-build-isolation ./python into a venv, offline; import tis there reads a mesh"
+	if (cd / && "$T/venv/bin/python3" -c 'import sys, tis
+assert tis.__file__.startswith(sys.argv[1]), tis.__file__
+print(tis.read_mesh(sys.argv[2]).nc)' "$T/venv/" "$top/samples/ordered-11.mesh" 2>>"$T/venv.log" | grep -qx 324); then
+		pass "$d"
+	else
+		fail "$d"; sed 's/^/#   /' "$T/venv.log" | tail -5
+	fi
+else
+	skip 1 "python3-venv (ensurepip) or python3-setuptools missing"
 fi
 done_testing

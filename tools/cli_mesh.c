@@ -24,9 +24,37 @@ FILE *cli_open(const char *path)
 		return stdin;
 	}
 	FILE *f = fopen(path, "r");
+	int e = errno;
+	if (f == NULL && e == ENOENT)
+		f = cli_open_sample(path);
 	if (f == NULL)
-		cli_die(EXIT_INPUT, "%s: %s", path, strerror(errno));
+		cli_die(EXIT_INPUT, "%s: %s", path, strerror(e));
 	return f;
+}
+
+FILE *cli_open_sample(const char *path)
+{
+	if (strncmp(path, "samples/", 8) != 0 || strstr(path, "..") != NULL)
+		return NULL;
+	/* the program's own place: PREFIX/bin, or bin/ of the source tree */
+	char exe[4096];
+	ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+	if (n <= 0)
+		return NULL;
+	exe[n] = '\0';
+	char *slash = strrchr(exe, '/');
+	if (slash == NULL)
+		return NULL;
+	*slash = '\0';
+	static const char *const under[] = { "/../share/tis/", "/../" };
+	for (size_t k = 0; k < sizeof under / sizeof under[0]; k++) {
+		char name[8192];
+		snprintf(name, sizeof name, "%s%s%s", exe, under[k], path);
+		FILE *f = fopen(name, "r");
+		if (f)
+			return f;
+	}
+	return NULL;
 }
 
 int cli_read_mesh(FILE *f, const char *path, long *line, mesh **m)

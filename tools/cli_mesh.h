@@ -11,6 +11,12 @@
  * stderr says that the program waits for it).  Exit 1 if it cannot be
  * opened. */
 FILE *cli_open(const char *path);
+/* A shipped sample by its name, samples/NAME.mesh (the name the README
+ * and the man pages use), when no such file is where the program runs:
+ * the copy make install put in PREFIX/share/tis/samples/ (PREFIX the
+ * directory above the program's bin/), or the source tree's samples/
+ * (the program is in its bin/).  NULL if neither has it. */
+FILE *cli_open_sample(const char *path);
 /* The name to use for an input in messages. */
 const char *cli_input_name(const char *path);
 
