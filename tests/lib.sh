@@ -28,7 +28,18 @@ if [ -n "${TIS_TEST_GROUP:-}" ]; then
 	) &
 	_watchdog=$!
 fi
-trap '[ -n "$_watchdog" ] && kill $_watchdog 2>/dev/null; rm -rf "$T"' EXIT
+# at_exit CMD: CMD runs when the test ends, after the watchdog is gone (a
+# test's own EXIT trap would replace this one and leave the watchdog
+# holding prove's pipe until the limit) and before $T is removed.
+_at_exit=
+at_exit() { _at_exit="$_at_exit$1
+"; }
+_end() {
+	[ -n "$_watchdog" ] && kill $_watchdog 2>/dev/null
+	eval "$_at_exit"
+	rm -rf "$T"
+}
+trap _end EXIT
 n=0
 failed=0
 plan() { echo "1..$1"; }

@@ -56,10 +56,9 @@ ctld= slurmd=
 stop() {
 	[ -n "$slurmd" ] && kill "$slurmd" 2>/dev/null
 	[ -n "$ctld" ] && kill "$ctld" 2>/dev/null
-	[ -n "$slurmd$ctld" ] && wait 2>/dev/null
-	rm -rf "$T"
+	[ -n "$slurmd$ctld" ] && wait $slurmd $ctld 2>/dev/null
 }
-trap stop EXIT
+at_exit stop
 slurmctld -D >"$S/log/ctld.out" 2>&1 &
 ctld=$!
 slurmd -D -N tisnode >"$S/log/slurmd.out" 2>&1 &
