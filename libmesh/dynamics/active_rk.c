@@ -51,6 +51,7 @@
 #include "noise.h"
 #include "eq1.h"
 #include "t1rule.h"
+#include "vec2.h"
 
 #define SMAX 7
 #define H_START 1e-4
@@ -121,57 +122,207 @@ struct rk {
 	                            (per junction: a re-arm moves it) and at
 	                            the step's end */
 	double *tstart;          /* nj: the time of l0 */
+	double *lt;              /* nj: scratch lengths */
+	int avx2;                /* the loops' AVX2 build */
 	int *eidx, *cand;
 	double *et0, *eg0, *eg1;
 	int failed;
 };
 
-/* The lengths of the active junctions at coordinates r into k->len, their
- * tensions from w into k->dg. */
-static void tensions(act *a, const double *y, double *dg)
+/* The loops every right-hand side and every step run are written once
+ * for four lanes (GCC's generic vectors) and built twice: for the
+ * library's target, where a four-lane operation is two of two lanes, and
+ * for AVX2 where the CPU has it (picked at run time as the energy
+ * kernel's build is, energy_ws_simd), where it is one.  Each lane does
+ * the scalar formula's operations in its order, so both builds give the
+ * numbers of the scalar loops, bit for bit. */
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(__AVX2__)
+#define RK_HAVE_AVX2 1
+#include <immintrin.h>   /* declares the AVX builtins */
+#endif
+/* 256-bit values pass between inlined functions only (GCC's note on the
+ * ABI of a 256-bit return is about calls) */
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+typedef double v4d __attribute__((vector_size(32), aligned(8)));
+typedef long long v4i __attribute__((vector_size(32)));
+
+static inline v2d ld2(const double *p)
 {
-	rk *k = a->s;
-	const mesh *m = a->m;
-	const double g0 = a->o.gamma0;
-	double d[2];
-	for (int i = 0; i < a->na; i++) {
-		int j = a->aj[i];
-		double l = junction_vec_sqrt(m, y, j, d);
-		k->len[i] = l;
-		dg[j] = y[k->n2 + i] / l - g0;
+	return *(const v2d *)p;
+}
+
+static inline void st2(double *p, v2d v)
+{
+	*(v2d *)p = v;
+}
+
+static inline __attribute__((always_inline)) v4d ld4(const double *p)
+{
+	return *(const v4d *)p;
+}
+
+static inline __attribute__((always_inline)) void st4(double *p, v4d v)
+{
+	*(v4d *)p = v;
+}
+
+static inline __attribute__((always_inline)) v4d bc4(double x)
+{
+	return (v4d){ x, x, x, x };
+}
+
+/* by lane b > a ? b : a, as v2d_max */
+static inline __attribute__((always_inline)) v4d max4(v4d a, v4d b)
+{
+	v4i gt = b > a;
+	return (v4d)(((v4i)b & gt) | ((v4i)a & ~gt));
+}
+
+static inline __attribute__((always_inline)) v4d abs4(v4d x)
+{
+	return (v4d)((v4i)x & (v4i){ 0x7fffffffffffffffLL, 0x7fffffffffffffffLL,
+	                             0x7fffffffffffffffLL, 0x7fffffffffffffffLL });
+}
+
+/* Four correctly rounded square roots: one vsqrtpd in the AVX2 build
+ * (which costs what one of two lanes does; bench/RESULTS.md, the energy
+ * kernel's pass 1), two of two lanes otherwise. */
+static inline __attribute__((always_inline)) v4d sqrt4(v2d q01, v2d q23, const int wide)
+{
+#if defined(RK_HAVE_AVX2) && !defined(__clang__)
+	if (wide)
+		return __builtin_ia32_sqrtpd256((v4d){ q01[0], q01[1], q23[0], q23[1] });
+#endif
+	(void)wide;
+	v2d s01 = v2d_sqrt(q01), s23 = v2d_sqrt(q23);
+	return (v4d){ s01[0], s01[1], s23[0], s23[1] };
+}
+
+/* The vector of junction j at coordinates y, as junction_vec_sqrt forms it. */
+static inline v2d jvec(const int *restrict jv, const double *restrict img, const double *y, int j)
+{
+	return ld2(y + 2 * jv[2 * j + 1]) - ld2(y + 2 * jv[2 * j]) + ld2(img + 2 * j);
+}
+
+/* The lengths of junctions idx[0..n) (idx NULL: 0..n-1) at coordinates y
+ * into len[0..n): junction_vec_sqrt's numbers. */
+static inline __attribute__((always_inline)) void
+jlengths_w(const mesh *m, const double *restrict y, const int *restrict idx, int n,
+           double *restrict len, const int wide)
+{
+	const int *restrict jv = m->jv;
+	const double *restrict img = m->jimg;
+	int i = 0;
+	for (; i + 3 < n; i += 4) {
+		v2d d0 = jvec(jv, img, y, idx ? idx[i] : i), d1 = jvec(jv, img, y, idx ? idx[i + 1] : i + 1);
+		v2d d2 = jvec(jv, img, y, idx ? idx[i + 2] : i + 2), d3 = jvec(jv, img, y, idx ? idx[i + 3] : i + 3);
+		st4(len + i, sqrt4(v2d_hadd(d0 * d0, d1 * d1), v2d_hadd(d2 * d2, d3 * d3), wide));
+	}
+	for (; i < n; i++) {
+		v2d d = jvec(jv, img, y, idx ? idx[i] : i);
+		len[i] = v2d_sqrt(v2d_hadd(d * d, d * d))[0];
 	}
 }
 
-static int rhs(act *a, const double *y, double *f)
+static void jlengths(const mesh *m, const double *restrict y, const int *restrict idx, int n,
+                     double *restrict len)
+{
+	jlengths_w(m, y, idx, n, len, 0);
+}
+
+/* The lengths of the active junctions at coordinates y into k->len, their
+ * tensions from w into dg (by junction number): what every right-hand
+ * side starts with. */
+static inline __attribute__((always_inline)) void
+tensions_w(act *a, const double *restrict y, double *restrict dg, const int wide)
+{
+	rk *k = a->s;
+	const double g0 = a->o.gamma0, *restrict w = y + k->n2, *restrict len = k->len;
+	const int *restrict aj = a->aj;
+	const int na = a->na;
+	int i = 0;
+	if (na == a->m->nj) {
+		/* every junction active, aj[i] = i */
+		jlengths_w(a->m, y, NULL, na, k->len, wide);
+		for (; i + 3 < na; i += 4)
+			st4(dg + i, ld4(w + i) / ld4(len + i) - bc4(g0));
+	} else {
+		jlengths_w(a->m, y, aj, na, k->len, wide);
+	}
+	for (; i < na; i++)
+		dg[aj[i]] = w[i] / len[i] - g0;
+}
+
+static void tensions(act *a, const double *restrict y, double *restrict dg)
+{
+	tensions_w(a, y, dg, 0);
+}
+
+static inline __attribute__((always_inline)) int
+rhs_w(act *a, const double *restrict y, double *restrict f, const int wide)
 {
 	rk *k = a->s;
 	const mesh *m = a->m;
-	tensions(a, y, k->dg);
+	tensions_w(a, y, k->dg, wide);
 	mesh_energy_tension(m, y, &a->p, k->dg, k->grad, k->ws);
-	int ok = 1;
-	for (int i = 0; i < k->n2; i++) {
-		f[i] = -k->grad[i];
-		ok &= isfinite(f[i]);
+	const double *restrict g = k->grad;
+	const int n2 = k->n2, na = a->na;
+	/* f - f is 0 for a finite f, NaN otherwise: one sum tells */
+	v4d bad = { 0, 0, 0, 0 };
+	int i = 0;
+	for (; i + 3 < n2; i += 4) {
+		v4d fi = -ld4(g + i);
+		st4(f + i, fi);
+		bad += fi - fi;
+	}
+	double badw = 0;
+	for (; i < n2; i++) {
+		f[i] = -g[i];
+		badw += f[i] - f[i];
 	}
 	const double g0 = a->o.gamma0, rate = 1 / a->o.tau;
-	for (int i = 0; i < a->na; i++) {
-		double l = k->len[i];
-		f[k->n2 + i] = eq1_dwdt(y[k->n2 + i], g0, rate, l, k->force[i]);
-		ok &= isfinite(f[k->n2 + i]);
+	const double *restrict w = y + n2, *restrict len = k->len, *restrict force = k->force;
+	double *restrict fw = f + n2;
+	for (i = 0; i < na; i++) {
+		double fi = eq1_dwdt(w[i], g0, rate, len[i], force[i]);
+		fw[i] = fi;
+		badw += fi - fi;
 	}
 	a->c.nfev++;
-	return ok;
+	return bad[0] + bad[1] + bad[2] + bad[3] + badw == 0;
 }
 
-static void pack(act *a, double *y)
+/* The two builds of NAME_w(act *a, ..., const int wide), and NAME
+ * calling the one for the CPU. */
+#ifdef RK_HAVE_AVX2
+#define RK_BUILDS(type, name, params, ...)                                              \
+	static type name##_base params { return name##_w(__VA_ARGS__, 0); }              \
+	__attribute__((target("avx2"))) static type name##_avx2 params                   \
+	{                                                                                \
+		return name##_w(__VA_ARGS__, 1);                                         \
+	}                                                                                \
+	static type name params                                                          \
+	{                                                                                \
+		return ((rk *)a->s)->avx2 ? name##_avx2(__VA_ARGS__) : name##_base(__VA_ARGS__); \
+	}
+#else
+#define RK_BUILDS(type, name, params, ...)                                              \
+	static type name params { return name##_w(__VA_ARGS__, 0); }
+#endif
+
+RK_BUILDS(int, rhs, (act *a, const double *y, double *f), a, y, f)
+
+/* The mesh's state as y, given the lengths l of every active junction
+ * (by junction number). */
+static void pack(act *a, double *y, const double *l)
 {
 	rk *k = a->s;
 	const mesh *m = a->m;
-	double d[2];
 	memcpy(y, m->r, (size_t)k->n2 * sizeof *y);
 	for (int i = 0; i < a->na; i++) {
 		int j = a->aj[i];
-		y[k->n2 + i] = (a->o.gamma0 + m->dg[j]) * junction_vec_sqrt(m, m->r, j, d);
+		y[k->n2 + i] = (a->o.gamma0 + m->dg[j]) * l[j];
 	}
 }
 
@@ -182,7 +333,37 @@ static void to_mesh(act *a, const double *y)
 	tensions(a, y, m->dg);
 }
 
-/* Component i of the dense output of the last step at theta in [0, 1]. */
+/* to_mesh of the state the last right-hand side was taken at (its
+ * tensions are in k->dg). */
+static void to_mesh_rhs(act *a, const double *y)
+{
+	rk *k = a->s;
+	mesh *m = a->m;
+	memcpy(m->r, y, (size_t)k->n2 * sizeof *y);
+	for (int i = 0; i < a->na; i++)
+		m->dg[a->aj[i]] = k->dg[a->aj[i]];
+}
+
+/* Components i and i + 1 of the dense output of the last step at theta
+ * in [0, 1] (each lane the scalar formula's numbers). */
+static inline v2d dense2(const rk *k, int i, double th)
+{
+	const tableau *tb = k->tb;
+	const v2d y0 = ld2(k->y0 + i), y1 = ld2(k->y1 + i), h = { k->hs, k->hs };
+	const v2d f0 = ld2(k->k[0] + i), f1 = ld2(k->k[tb->s - 1] + i);
+	const v2d t = { th, th }, one = { 1, 1 };
+	if (tb->dp5) {
+		v2d r2 = y1 - y0, r3 = h * f0 - r2, r4 = r2 - h * f1 - r3, r5 = { 0, 0 };
+		for (int s = 0; s < tb->s; s++)
+			r5 += (v2d){ D5[s], D5[s] } * ld2(k->k[s] + i);
+		r5 *= h;
+		return y0 + t * (r2 + (one - t) * (r3 + t * (r4 + (one - t) * r5)));
+	}
+	v2d dy = y1 - y0;
+	return y0 + t * dy + t * (t - one) * (((one - (v2d){ 2, 2 } * t) * dy + (t - one) * h * f0) + t * h * f1);
+}
+
+/* Component i alone. */
 static double dense(const rk *k, int i, double th)
 {
 	const tableau *tb = k->tb;
@@ -199,6 +380,16 @@ static double dense(const rk *k, int i, double th)
 	return y0 + th * dy + th * (th - 1) * ((1 - 2 * th) * dy + (th - 1) * h * f0 + th * h * f1);
 }
 
+/* The whole state on the dense output at theta into y. */
+static void dense_all(const rk *k, double th, double *y)
+{
+	int i = 0;
+	for (; i + 1 < k->n; i += 2)
+		st2(y + i, dense2(k, i, th));
+	for (; i < k->n; i++)
+		y[i] = dense(k, i, th);
+}
+
 static double theta(const rk *k, double t)
 {
 	double th = (t - k->ts) / k->hs;
@@ -213,10 +404,8 @@ static double dense_length(act *a, int j, double t)
 	const mesh *m = a->m;
 	double th = theta(k, t), d[2];
 	int va = m->jv[2 * j], vb = m->jv[2 * j + 1];
-	for (int u = 0; u < 2; u++) {
-		k->ys[2 * va + u] = dense(k, 2 * va + u, th);
-		k->ys[2 * vb + u] = dense(k, 2 * vb + u, th);
-	}
+	st2(k->ys + 2 * va, dense2(k, 2 * va, th));
+	st2(k->ys + 2 * vb, dense2(k, 2 * vb, th));
 	return junction_vec_sqrt(m, k->ys, j, d);
 }
 
@@ -273,7 +462,7 @@ static int rk_alloc(act *a, mesh_error *err)
 		ok &= (*vec[i] = calloc(n, sizeof **vec[i])) != NULL;
 	for (int s = 0; s < k->tb->s; s++)
 		ok &= (k->k[s] = calloc(n, sizeof *k->k[s])) != NULL;
-	double **vj[] = { &k->dg, &k->thr, &k->l0, &k->l1, &k->tstart };
+	double **vj[] = { &k->dg, &k->thr, &k->l0, &k->l1, &k->tstart, &k->lt };
 	for (size_t i = 0; i < sizeof vj / sizeof vj[0]; i++)
 		ok &= (*vj[i] = calloc(nj, sizeof **vj[i])) != NULL;
 	double **ve[] = { &k->et0, &k->eg0, &k->eg1 };
@@ -286,6 +475,8 @@ static int rk_alloc(act *a, mesh_error *err)
 	k->eidx = calloc(2 * nj, sizeof *k->eidx);
 	k->cand = calloc(nj, sizeof *k->cand);
 	k->ws = energy_ws_alloc(m);
+	/* the kernel's choice of build is this code's too */
+	k->avx2 = k->ws && energy_ws_simd(k->ws, 1) == 1;
 	if (!ok || !k->len || !k->force || !k->mode || !k->fresh || !k->eidx || !k->cand || !k->ws)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	if (a->o.sigma > 0 && (k->g = ou_alloc(a->seed)) == NULL)
@@ -302,7 +493,7 @@ static void rk_free(act *a)
 	if (k == NULL)
 		return;
 	double *v[] = { k->y0, k->y1, k->yt, k->ys, k->r0, k->grad, k->dg, k->thr, k->l0,
-			k->l1, k->tstart, k->et0, k->eg0, k->eg1, k->len, k->force };
+			k->l1, k->tstart, k->lt, k->et0, k->eg0, k->eg1, k->len, k->force };
 	for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
 		free(v[i]);
 	for (int s = 0; s < SMAX; s++)
@@ -354,26 +545,29 @@ static int rk_rng_set(act *a, const char *text)
 	return ou_state_set(k->g, text);
 }
 
+/* The lengths the events need at coordinates r (every junction with T1s
+ * on, the active ones otherwise) into l, by junction number. */
 static void lengths(const act *a, const double *r, double *l)
 {
 	const mesh *m = a->m;
-	double d[2];
-	if (a->o.t1_length > 0)
-		for (int j = 0; j < m->nj; j++)
-			l[j] = junction_vec_sqrt(m, r, j, d);
-	else
+	if (a->o.t1_length > 0) {
+		jlengths(m, r, NULL, m->nj, l);
+	} else {
+		rk *k = a->s;
+		jlengths(m, r, a->aj, a->na, k->lt);
 		for (int i = 0; i < a->na; i++)
-			l[a->aj[i]] = junction_vec_sqrt(m, r, a->aj[i], d);
+			l[a->aj[i]] = k->lt[i];
+	}
 }
 
 /* A fresh start at the mesh's state and time: y0, f(y0), the lengths. */
 static int start(act *a)
 {
 	rk *k = a->s;
-	pack(a, k->y0);
+	lengths(a, a->m->r, k->l0);
+	pack(a, k->y0, k->l0);
 	k->have_step = 0;
 	a->tprev = a->t;
-	lengths(a, k->y0, k->l0);
 	for (int j = 0; j < a->m->nj; j++)
 		k->tstart[j] = a->t;
 	return rhs(a, k->y0, k->k[0]);
@@ -390,32 +584,89 @@ static void draw(act *a)
 
 /* One trial step of length h from y0 into y1 and k[1..s-1]; the error
  * norm (INFINITY if a stage was not finite). */
-static double trial(act *a, double h)
+static inline __attribute__((always_inline)) double trial_w(act *a, double h, const int wide)
 {
 	rk *k = a->s;
 	const tableau *tb = k->tb;
 	const int n = k->n, n2 = k->n2;
+	const double *restrict y0 = k->y0;
+	const v4d hv = bc4(h);
+	/* each component summed as the scalar loop sums it (from 0, stage
+	 * by stage) */
 	for (int s = 1; s < tb->s; s++) {
-		double *yt = s == tb->s - 1 ? k->y1 : k->yt;
-		for (int i = 0; i < n; i++) {
+		double *restrict yt = s == tb->s - 1 ? k->y1 : k->yt;
+		const double *as = tb->a[s];
+		int i = 0;
+		for (; i + 8 <= n; i += 8) {
+			v4d c0 = bc4(0), c1 = c0;
+			for (int q = 0; q < s; q++) {
+				const double *kq = k->k[q] + i;
+				const v4d aq = bc4(as[q]);
+				c0 += aq * ld4(kq);
+				c1 += aq * ld4(kq + 4);
+			}
+			st4(yt + i, ld4(y0 + i) + hv * c0);
+			st4(yt + i + 4, ld4(y0 + i + 4) + hv * c1);
+		}
+		for (; i < n; i++) {
 			double acc = 0;
 			for (int q = 0; q < s; q++)
-				acc += tb->a[s][q] * k->k[q][i];
-			yt[i] = k->y0[i] + h * acc;
+				acc += as[q] * k->k[q][i];
+			yt[i] = y0[i] + h * acc;
 		}
-		if (!rhs(a, yt, k->k[s]))
+		if (!rhs_w(a, yt, k->k[s], wide))
 			return INFINITY;
 	}
 	const double rtol = a->o.rtol, atol = ACT_ATOL_FACTOR;
+	const double *restrict y1 = k->y1, *restrict r0 = k->r0, *eb = tb->e;
+	const v4d rt = bc4(rtol), at = bc4(atol);
+	/* two maxima: two chains of divisions in flight; the maximum of
+	 * each lane's quotients, NaNs passed over as the scalar loop does */
+	v4d e0 = bc4(0), e1 = e0;
+	int i = 0;
+	for (; i + 8 <= n; i += 8) {
+		v4d c0 = bc4(0), c1 = c0;
+		for (int q = 0; q < tb->s; q++) {
+			const double *kq = k->k[q] + i;
+			const v4d eq = bc4(eb[q]);
+			c0 += eq * ld4(kq);
+			c1 += eq * ld4(kq + 4);
+		}
+		v4d u0 = ld4(y0 + i), u1 = ld4(y1 + i), w0 = ld4(y0 + i + 4), w1 = ld4(y1 + i + 4);
+		if (i + 8 <= n2) {
+			u0 -= ld4(r0 + i);
+			u1 -= ld4(r0 + i);
+			w0 -= ld4(r0 + i + 4);
+			w1 -= ld4(r0 + i + 4);
+		} else if (i < n2) {
+			/* the block where the coordinates end */
+			for (int c = 0; c < 4; c++) {
+				double ra = i + c < n2 ? r0[i + c] : 0, rb = i + 4 + c < n2 ? r0[i + 4 + c] : 0;
+				if (i + c < n2) {
+					u0[c] -= ra;
+					u1[c] -= ra;
+				}
+				if (i + 4 + c < n2) {
+					w0[c] -= rb;
+					w1[c] -= rb;
+				}
+			}
+		}
+		e0 = max4(e0, abs4(hv * c0) / (rt * (at + max4(abs4(u0), abs4(u1)))));
+		e1 = max4(e1, abs4(hv * c1) / (rt * (at + max4(abs4(w0), abs4(w1)))));
+	}
+	e0 = max4(e0, e1);
 	double e = 0;
-	for (int i = 0; i < n; i++) {
+	for (int c = 0; c < 4; c++)
+		e = e0[c] > e ? e0[c] : e;
+	for (; i < n; i++) {
 		double acc = 0;
 		for (int q = 0; q < tb->s; q++)
-			acc += tb->e[q] * k->k[q][i];
-		double u0 = k->y0[i], u1 = k->y1[i];
+			acc += eb[q] * k->k[q][i];
+		double u0 = y0[i], u1 = y1[i];
 		if (i < n2) {
-			u0 -= k->r0[i];
-			u1 -= k->r0[i];
+			u0 -= r0[i];
+			u1 -= r0[i];
 		}
 		double sc = rtol * (atol + fmax(fabs(u0), fabs(u1)));
 		double ei = fabs(h * acc) / sc;
@@ -423,6 +674,8 @@ static double trial(act *a, double h)
 	}
 	return isfinite(e) ? e : INFINITY;
 }
+
+RK_BUILDS(double, trial, (act *a, double h), a, h)
 
 /* T1 every junction that is below its threshold now (the mesh is at the
  * event or a start), shortest first, as the paper's rule says: the one
@@ -434,11 +687,14 @@ static int t1s(act *a, mesh_error *err)
 	rk *k = a->s;
 	mesh *m = a->m;
 	int done = 0;
+	double *lt = k->lt;
+	/* every length once, then only those a T1 changed */
+	jlengths(m, m->r, NULL, m->nj, lt);
 	for (;;) {
 		int best = -1;
-		double lb = INFINITY, d[2];
+		double lb = INFINITY;
 		for (int j = 0; j < m->nj; j++) {
-			double l = junction_vec_sqrt(m, m->r, j, d);
+			double l = lt[j];
 			if (l < k->thr[j] && t1_first(l, j, lb, best)) {
 				lb = l;
 				best = j;
@@ -469,6 +725,8 @@ static int t1s(act *a, mesh_error *err)
 		k->thr[best] = fresh_threshold(a);
 		if (a->hook)
 			a->hook(a->hook_data, a->t, best, lose, m->jc + 2 * best, lb);
+		for (int e = 0; e < 5; e++)
+			jlengths(m, m->r, touched + e, 1, lt + touched[e]);
 	}
 }
 
@@ -481,7 +739,14 @@ static int step_events(act *a, double t1, double *tev)
 	const mesh *m = a->m;
 	const int t1on = a->o.t1_length > 0, nj = t1on ? m->nj : a->na;
 	const double ttol = 4 * DBL_EPSILON * fabs(t1);
-	lengths(a, k->y1, k->l1);
+	/* the step's last right-hand side was taken at its end: the active
+	 * junctions' lengths are those */
+	if (t1on && a->na < m->nj) {
+		lengths(a, k->y1, k->l1);
+	} else {
+		for (int i = 0; i < a->na; i++)
+			k->l1[a->aj[i]] = k->len[i];
+	}
 	for (;;) {
 		int n = 0;
 		for (int q = 0; q < nj; q++) {
@@ -519,8 +784,7 @@ static int step_events(act *a, double t1, double *tev)
 		}
 		*tev = t;
 		double th = theta(k, t);
-		for (int c = 0; c < k->n; c++)
-			k->yt[c] = dense(k, c, th);
+		dense_all(k, th, k->yt);
 		to_mesh(a, k->yt);
 		k->cand[0] = j;
 		return 1;
@@ -569,7 +833,9 @@ static int rk_segment(act *a, double t_seg, mesh_error *err)
 			double tc = (double)(k->kcell + 1) / k->ncell;
 			tend = tc < tend ? tc : tend;
 		}
-		double h = k->h, t1 = a->t + h;
+		double h = k->h;
+
+		double t1 = a->t + h;
 		int land = 0;
 		if (t1 >= tend - 0.01 * h) {
 			h = tend - a->t;
@@ -600,7 +866,7 @@ static int rk_segment(act *a, double t_seg, mesh_error *err)
 		k->have_step = 1;
 		a->tprev = a->t;
 		a->t = t1;
-		to_mesh(a, k->y1);
+		to_mesh_rhs(a, k->y1);
 		double tev;
 		int nc = step_events(a, t1, &tev);
 		if (nc > 0) {
@@ -671,8 +937,7 @@ static int rk_sample(act *a, double t, double *r, double *dg)
 		return MESH_OK;
 	}
 	double th = theta(k, t);
-	for (int c = 0; c < k->n; c++)
-		k->ys[c] = dense(k, c, th);
+	dense_all(k, th, k->ys);
 	memset(dg, 0, (size_t)m->nj * sizeof *dg);
 	memcpy(r, k->ys, (size_t)k->n2 * sizeof *r);
 	tensions(a, k->ys, dg);
