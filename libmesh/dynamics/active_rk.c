@@ -124,6 +124,8 @@ struct rk {
 	double *tstart;          /* nj: the time of l0 */
 	double *lt;              /* nj: scratch lengths */
 	int avx2;                /* the loops' AVX2 build */
+	int *t1j, nt1j;          /* the junctions of the last event's T1s */
+	double hcap;             /* the first step after them at most this */
 	int *eidx, *cand;
 	double *et0, *eg0, *eg1;
 	int failed;
@@ -284,7 +286,15 @@ rhs_w(act *a, const double *restrict y, double *restrict f, const int wide)
 	const double g0 = a->o.gamma0, rate = 1 / a->o.tau;
 	const double *restrict w = y + n2, *restrict len = k->len, *restrict force = k->force;
 	double *restrict fw = f + n2;
-	for (i = 0; i < na; i++) {
+	/* four sums of the tests, not one chain through every junction */
+	for (i = 0; i + 3 < na; i += 4) {
+		v4d fi;
+		for (int c = 0; c < 4; c++)
+			fi[c] = eq1_dwdt(w[i + c], g0, rate, len[i + c], force[i + c]);
+		st4(fw + i, fi);
+		bad += fi - fi;
+	}
+	for (; i < na; i++) {
 		double fi = eq1_dwdt(w[i], g0, rate, len[i], force[i]);
 		fw[i] = fi;
 		badw += fi - fi;
@@ -344,51 +354,43 @@ static void to_mesh_rhs(act *a, const double *y)
 		m->dg[a->aj[i]] = k->dg[a->aj[i]];
 }
 
-/* Components i and i + 1 of the dense output of the last step at theta
- * in [0, 1] (each lane the scalar formula's numbers). */
-static inline v2d dense2(const rk *k, int i, double th)
+/* Components i..i+3 of the dense output of the last step at theta in
+ * [0, 1], each lane the scalar formula's numbers (the state's arrays
+ * have 4 components more than the state, so i may be any component). */
+static inline __attribute__((always_inline)) v4d dense4(const rk *k, int i, double th)
 {
 	const tableau *tb = k->tb;
-	const v2d y0 = ld2(k->y0 + i), y1 = ld2(k->y1 + i), h = { k->hs, k->hs };
-	const v2d f0 = ld2(k->k[0] + i), f1 = ld2(k->k[tb->s - 1] + i);
-	const v2d t = { th, th }, one = { 1, 1 };
+	const v4d y0 = ld4(k->y0 + i), y1 = ld4(k->y1 + i), h = bc4(k->hs), t = bc4(th), one = bc4(1);
+	const v4d f0 = ld4(k->k[0] + i), f1 = ld4(k->k[tb->s - 1] + i);
 	if (tb->dp5) {
-		v2d r2 = y1 - y0, r3 = h * f0 - r2, r4 = r2 - h * f1 - r3, r5 = { 0, 0 };
+		v4d r2 = y1 - y0, r3 = h * f0 - r2, r4 = r2 - h * f1 - r3, r5 = bc4(0);
 		for (int s = 0; s < tb->s; s++)
-			r5 += (v2d){ D5[s], D5[s] } * ld2(k->k[s] + i);
+			r5 += bc4(D5[s]) * ld4(k->k[s] + i);
 		r5 *= h;
 		return y0 + t * (r2 + (one - t) * (r3 + t * (r4 + (one - t) * r5)));
 	}
-	v2d dy = y1 - y0;
-	return y0 + t * dy + t * (t - one) * (((one - (v2d){ 2, 2 } * t) * dy + (t - one) * h * f0) + t * h * f1);
+	v4d dy = y1 - y0;
+	return y0 + t * dy + t * (t - one) * ((one - bc4(2) * t) * dy + (t - one) * h * f0 + t * h * f1);
 }
 
-/* Component i alone. */
-static double dense(const rk *k, int i, double th)
+/* The whole state on the dense output at theta into y (returned). */
+static inline __attribute__((always_inline)) double *
+dense_all_w(const act *a, double th, double *y, const int wide)
 {
-	const tableau *tb = k->tb;
-	double y0 = k->y0[i], y1 = k->y1[i], h = k->hs;
-	double f0 = k->k[0][i], f1 = k->k[tb->s - 1][i];
-	if (tb->dp5) {
-		double r2 = y1 - y0, r3 = h * f0 - r2, r4 = r2 - h * f1 - r3, r5 = 0;
-		for (int s = 0; s < tb->s; s++)
-			r5 += D5[s] * k->k[s][i];
-		r5 *= h;
-		return y0 + th * (r2 + (1 - th) * (r3 + th * (r4 + (1 - th) * r5)));
-	}
-	double dy = y1 - y0;
-	return y0 + th * dy + th * (th - 1) * ((1 - 2 * th) * dy + (th - 1) * h * f0 + th * h * f1);
-}
-
-/* The whole state on the dense output at theta into y. */
-static void dense_all(const rk *k, double th, double *y)
-{
+	const rk *k = a->s;
+	(void)wide;
 	int i = 0;
-	for (; i + 1 < k->n; i += 2)
-		st2(y + i, dense2(k, i, th));
-	for (; i < k->n; i++)
-		y[i] = dense(k, i, th);
+	for (; i + 3 < k->n; i += 4)
+		st4(y + i, dense4(k, i, th));
+	if (i < k->n) {
+		v4d v = dense4(k, i, th);
+		for (int l = 0; i + l < k->n; l++)
+			y[i + l] = v[l];
+	}
+	return y;
 }
+
+RK_BUILDS(double *, dense_all, (const act *a, double th, double *y), a, th, y)
 
 static double theta(const rk *k, double t)
 {
@@ -404,8 +406,9 @@ static double dense_length(act *a, int j, double t)
 	const mesh *m = a->m;
 	double th = theta(k, t), d[2];
 	int va = m->jv[2 * j], vb = m->jv[2 * j + 1];
-	st2(k->ys + 2 * va, dense2(k, 2 * va, th));
-	st2(k->ys + 2 * vb, dense2(k, 2 * vb, th));
+	v4d pa = dense4(k, 2 * va, th), pb = dense4(k, 2 * vb, th);
+	st2(k->ys + 2 * va, (v2d){ pa[0], pa[1] });
+	st2(k->ys + 2 * vb, (v2d){ pb[0], pb[1] });
 	return junction_vec_sqrt(m, k->ys, j, d);
 }
 
@@ -457,11 +460,12 @@ static int rk_alloc(act *a, mesh_error *err)
 	k->n = k->n2 + a->na;
 	size_t n = (size_t)k->n, nj = m->nj ? (size_t)m->nj : 1, na = a->na ? (size_t)a->na : 1;
 	int ok = 1;
+	/* 4 more than the state: dense4 reads four components from any */
 	double **vec[] = { &k->y0, &k->y1, &k->yt, &k->ys, &k->r0, &k->grad };
 	for (size_t i = 0; i < sizeof vec / sizeof vec[0]; i++)
-		ok &= (*vec[i] = calloc(n, sizeof **vec[i])) != NULL;
+		ok &= (*vec[i] = calloc(n + 4, sizeof **vec[i])) != NULL;
 	for (int s = 0; s < k->tb->s; s++)
-		ok &= (k->k[s] = calloc(n, sizeof *k->k[s])) != NULL;
+		ok &= (k->k[s] = calloc(n + 4, sizeof *k->k[s])) != NULL;
 	double **vj[] = { &k->dg, &k->thr, &k->l0, &k->l1, &k->tstart, &k->lt };
 	for (size_t i = 0; i < sizeof vj / sizeof vj[0]; i++)
 		ok &= (*vj[i] = calloc(nj, sizeof **vj[i])) != NULL;
@@ -474,10 +478,11 @@ static int rk_alloc(act *a, mesh_error *err)
 	k->fresh = calloc(nj, 1);
 	k->eidx = calloc(2 * nj, sizeof *k->eidx);
 	k->cand = calloc(nj, sizeof *k->cand);
+	k->t1j = calloc(nj, sizeof *k->t1j);
 	k->ws = energy_ws_alloc(m);
 	/* the kernel's choice of build is this code's too */
 	k->avx2 = k->ws && energy_ws_simd(k->ws, 1) == 1;
-	if (!ok || !k->len || !k->force || !k->mode || !k->fresh || !k->eidx || !k->cand || !k->ws)
+	if (!ok || !k->len || !k->force || !k->mode || !k->fresh || !k->eidx || !k->cand || !k->t1j || !k->ws)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	if (a->o.sigma > 0 && (k->g = ou_alloc(a->seed)) == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
@@ -502,6 +507,7 @@ static void rk_free(act *a)
 	free(k->fresh);
 	free(k->eidx);
 	free(k->cand);
+	free(k->t1j);
 	energy_ws_free(k->ws);
 	ou_free(k->g);
 	free(k);
@@ -701,7 +707,7 @@ static int t1s(act *a, mesh_error *err)
 			}
 		}
 		if (best < 0)
-			return done;
+			return k->nt1j = done;
 		int lose[2], touched[5];
 		int st = t1_do(m, best, a->o.t1_new, lose, touched);
 		if (st == MESH_ENOMEM) {
@@ -717,7 +723,7 @@ static int t1s(act *a, mesh_error *err)
 			k->thr[best] = 0.5 * lb;
 			continue;
 		}
-		done++;
+		k->t1j[done++] = best;
 		a->c.nt1++;
 		a->c.nt1_again += k->mode[best] == FRESH;
 		k->mode[best] = FRESH;
@@ -766,13 +772,17 @@ static int step_events(act *a, double t1, double *tev)
 		}
 		if (n == 0)
 			return 0;
-		/* the tolerance of the first candidate's length: events of one
-		 * step are few, and their lengths alike (all T1 thresholds or
-		 * re-arm lengths) */
+		/* the tolerance of the shortest of the candidates' lengths (a
+		 * junction on its lowered threshold, 0.9 t1_new, beside others on
+		 * the threshold: each is located within rtol of its own) */
 		int which;
-		double t;
-		int i0 = k->eidx[0];
-		double ltol = a->o.rtol * ((i0 & 1) ? rearm_length(a, i0 >> 1) : k->thr[i0 >> 1]);
+		double t, lev = INFINITY;
+		for (int c = 0; c < n; c++) {
+			int ic = k->eidx[c];
+			double lc = (ic & 1) ? rearm_length(a, ic >> 1) : k->thr[ic >> 1];
+			lev = lc < lev ? lc : lev;
+		}
+		double ltol = a->o.rtol * lev;
 		ev_first(event_g, a, k->eidx, k->et0, k->eg0, k->eg1, n, t1, ltol, ttol, &which, &t);
 		int i = k->eidx[which], j = i >> 1;
 		if (i & 1) {
@@ -784,11 +794,40 @@ static int step_events(act *a, double t1, double *tev)
 		}
 		*tev = t;
 		double th = theta(k, t);
-		dense_all(k, th, k->yt);
+		dense_all(a, th, k->yt);
 		to_mesh(a, k->yt);
 		k->cand[0] = j;
 		return 1;
 	}
+}
+
+/* The first step after the T1s of an event (f at the new state in
+ * k[0]): a T1 makes a junction t1_new long whose vertices move fast, and
+ * the step the trajectory before it allowed is often far too long there
+ * (at the storm point 4 in 10 such steps were rejected, most by a factor
+ * of 10^3).  A step that moves the two ends of a new junction of length L
+ * by more than about L/3 relative to each other is rejected more often
+ * than not (dp5 at rtol 1e-6: 3 % of first steps below L/3, 57 % at
+ * L/1.8, 98 % at L), so it is at most T1_STEP L/|v_b - v_a|
+ * (rtol/1e-6)^(1/(q+1)) for each new junction (q + 1 the order of the
+ * error estimate's step), T1_STEP from the right-hand sides per T1 at
+ * the storm point (0.05: 11.9, 0.1: 9.8, 0.15: 9.4, 0.2: 9.6, 0.3: 9.7,
+ * 0.4: 10.2, none: 11.4, over t 2-3). */
+#define T1_STEP 0.15
+static double t1_step(const act *a)
+{
+	const rk *k = a->s;
+	const mesh *m = a->m;
+	const double *f = k->k[0];
+	double h = INFINITY;
+	for (int i = 0; i < k->nt1j; i++) {
+		int j = k->t1j[i], va = m->jv[2 * j], vb = m->jv[2 * j + 1];
+		double dx = f[2 * vb] - f[2 * va], dy = f[2 * vb + 1] - f[2 * va + 1];
+		double v = sqrt(dx * dx + dy * dy);
+		if (v > 0 && k->l0[j] / v < h)
+			h = k->l0[j] / v;
+	}
+	return T1_STEP * h * pow(a->o.rtol / 1e-6, 1.0 / (k->tb->q + 1));
 }
 
 /* One segment to t_seg (a checkpoint or the end) or an event: the
@@ -826,16 +865,14 @@ static int rk_segment(act *a, double t_seg, mesh_error *err)
 	 * oscillation on the stability boundary, where a stiff network runs) */
 	const double expo = -1.0 / (tb->q + 1), beta = PI_BETA;
 	double eold = 1e-4;
-	int rejected = 0;
+	int rejected = 0, post = 0;
 	while (a->t < t_seg) {
 		double tend = t_seg;
 		if (k->g) {
 			double tc = (double)(k->kcell + 1) / k->ncell;
 			tend = tc < tend ? tc : tend;
 		}
-		double h = k->h;
-
-		double t1 = a->t + h;
+		double h = post && k->hcap < k->h ? k->hcap : k->h, t1 = a->t + h;
 		int land = 0;
 		if (t1 >= tend - 0.01 * h) {
 			h = tend - a->t;
@@ -860,6 +897,7 @@ static int rk_segment(act *a, double t_seg, mesh_error *err)
 		rejected = 0;
 		double hn = h * fac;
 		k->h = land && hn < k->h ? k->h : hn;
+		post = 0;
 		a->c.nstep++;
 		k->ts = a->t;
 		k->hs = h;
@@ -887,6 +925,8 @@ static int rk_segment(act *a, double t_seg, mesh_error *err)
 			}
 			if (!start(a))
 				goto nonfinite;
+			post = 1;
+			k->hcap = t1_step(a);
 			if (quit) {
 				*why = ACT_END_STOP;
 				return MESH_OK;
@@ -937,7 +977,7 @@ static int rk_sample(act *a, double t, double *r, double *dg)
 		return MESH_OK;
 	}
 	double th = theta(k, t);
-	dense_all(k, th, k->ys);
+	dense_all(a, th, k->ys);
 	memset(dg, 0, (size_t)m->nj * sizeof *dg);
 	memcpy(r, k->ys, (size_t)k->n2 * sizeof *r);
 	tensions(a, k->ys, dg);
