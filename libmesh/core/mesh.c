@@ -92,6 +92,7 @@ void mesh_free(mesh *m)
 	free(m->coff);
 	free(m->cv);
 	free(m->dg);
+	free(m->held);
 	free(m->param);
 	for (int i = 0; i < m->nhist; i++)
 		free(m->hist[i]);
@@ -127,6 +128,7 @@ mesh *mesh_copy(const mesh *m)
 	c->jc = dup_array(m->jc, 2 * (size_t)m->nj, sizeof *m->jc);
 	c->jimg = dup_array(m->jimg, 2 * (size_t)m->nj, sizeof *m->jimg);
 	c->dg = dup_array(m->dg, m->nj, sizeof *m->dg);
+	c->held = dup_array(m->held, 2 * (size_t)m->nheld, sizeof *m->held);
 	/* the kernel's copy: without it (out of memory) the kernel reads the
 	 * arrays themselves */
 	c->kcv = dup_array(m->kok ? m->kcv : NULL, nk, sizeof *m->kcv);
@@ -140,7 +142,7 @@ mesh *mesh_copy(const mesh *m)
 	c->nhist = 0;
 	int bad = !c->r || !c->coff || (nk && !c->cv) || (m->cimg && !c->cimg) ||
 		  (m->cj && !c->cj) || (m->jv && !c->jv) || (m->jc && !c->jc) ||
-		  (m->jimg && !c->jimg) || (m->dg && !c->dg) ||
+		  (m->jimg && !c->jimg) || (m->dg && !c->dg) || (m->held && !c->held) ||
 		  (m->param && !c->param) || !c->hist;
 	for (int i = 0; !bad && i < m->nhist; i++) {
 		c->hist[i] = strdup(m->hist[i]);

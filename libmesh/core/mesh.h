@@ -60,6 +60,14 @@ typedef struct mesh {
 
 	double *dg;        /* nj junction tensions, or NULL when no junction has state */
 
+	/* Held four-fold vertices (tis-active --t1-rule hold): the junctions
+	 * a-b whose two vertices are joined, one point moving as one body
+	 * (mesh_held.c), as vertex pairs held[2i], held[2i+1], i < nheld:
+	 * pairs, not junction numbers, so that mesh_build's renumbering keeps
+	 * them.  NULL and 0 in a mesh without. */
+	int nheld;
+	int *held;
+
 	/* Derived, for the energy kernel (mesh_kernel_build): the image
 	 * offsets above as 6-bit codes packed above the vertex ids, so that a
 	 * pass over the tissue reads 4 bytes per corner and 8 per junction
@@ -149,6 +157,35 @@ typedef struct mesh_jindex mesh_jindex;
 mesh_jindex *mesh_jindex_alloc(const mesh *m);
 int mesh_jindex_find(const mesh_jindex *x, const mesh *m, int a, int b);
 void mesh_jindex_free(mesh_jindex *x);
+
+/* ---- held four-fold vertices (mesh_held.c) ----
+ * A held junction a-b has length 0 (its two vertices at one point, to
+ * MESH_HELD_TOL), both vertices three-fold and in no other held pair, and
+ * the four cells around it distinct, the two it separates with at least
+ * four corners each (so that they keep three sides as polygons).  Such a
+ * point is a four-fold vertex of the tissue: the zero-length junction is
+ * no side of a polygon. */
+#define MESH_HELD_TOL 1e-9
+
+/* MESH_OK when every held pair of m is such a junction at coordinates r
+ * (m->r if NULL); MESH_EINVAL naming the first that is not, with
+ * line[i] (if not NULL) as the line of pair i. */
+int mesh_held_check(const mesh *m, const double *r, const long *line, mesh_error *err);
+/* Add the pair a b (MESH_ENOMEM), remove it (nothing if absent); whether
+ * vertex v is in a held pair (the pair's index, or -1). */
+int mesh_held_add(mesh *m, int a, int b);
+void mesh_held_del(mesh *m, int a, int b);
+int mesh_held_of(const mesh *m, int v);
+/* The junction number of each held pair into hj[nheld] (-1 for a pair
+ * that is no junction, which mesh_held_check refuses).  MESH_ENOMEM. */
+int mesh_held_junctions(const mesh *m, int *hj);
+/* Each cell's sides as a polygon into sides[nc]: its corners less one for
+ * every held junction on its boundary (what f6 counts).  MESH_ENOMEM. */
+int mesh_held_sides(const mesh *m, int *sides);
+/* MESH_OK for a mesh without held pairs, else MESH_EINVAL with "N held
+ * four-fold vertices (tis-active --t1-rule hold): WHAT": for the
+ * programs that do not take them. */
+int mesh_held_none(const mesh *m, const char *what, mesh_error *err);
 
 /* Give the mesh a tension array (zeros) if it has none.  MESH_ENOMEM. */
 int mesh_tension_alloc(mesh *m);

@@ -98,7 +98,17 @@ int mesh_write_check(const mesh *m, mesh_error *err)
 	if (fabs(asum - box) > 1e-9 * box)
 		return mesh_error_set(err, 0, MESH_EINVAL, "cell areas add up to %.12g, not the box "
 		                      "area %.12g (overlapping or missing cells)", asum, box);
-	return MESH_OK;
+	/* held pairs: what they are, and at one point as written */
+	int st = mesh_held_check(m, NULL, NULL, err);
+	for (int i = 0; st == MESH_OK && i < m->nheld; i++) {
+		int a = m->held[2 * i], b = m->held[2 * i + 1];
+		double dx = written(m, 2 * b) - written(m, 2 * a), dy = written(m, 2 * b + 1) - written(m, 2 * a + 1);
+		double l = hypot(dx + mesh_min_image_shift(dx, m->lx), dy + mesh_min_image_shift(dy, m->ly));
+		if (!(l <= MESH_HELD_TOL))
+			st = mesh_error_set(err, 0, MESH_EINVAL, "held %d-%d: its vertices are %.3g apart, not "
+			                    "at one point (%g)", a, b, l, MESH_HELD_TOL);
+	}
+	return st;
 }
 
 /* Room for one vertex line: two %.17g numbers (at most 24 characters,
@@ -204,6 +214,11 @@ int mesh_write_threads(FILE *f, const mesh *m, int threads)
 					fputc('\n', f);
 				}
 		}
+	}
+	if (m->nheld > 0) {
+		fprintf(f, "held %d\n", m->nheld);
+		for (int i = 0; i < m->nheld; i++)
+			fprintf(f, "%d %d\n", m->held[2 * i], m->held[2 * i + 1]);
 	}
 	fputs("end\n", f);
 	return ferror(f) ? MESH_EIO : MESH_OK;
@@ -459,7 +474,8 @@ static int read_cells(reader *rd, mesh *m, long **cline)
 	for (int k = 0; k < m->nc; k++) {
 		TRY(need(rd, "fewer cell lines than 'cells' says"));
 		int ns;
-		if (strcmp(rd->tok[0], "end") == 0 || strcmp(rd->tok[0], "junctions") == 0)
+		if (strcmp(rd->tok[0], "end") == 0 || strcmp(rd->tok[0], "junctions") == 0 ||
+		    strcmp(rd->tok[0], "held") == 0)
 			return bad(rd, "'%s' after %d cells, but 'cells' says %d", rd->tok[0], k, m->nc);
 		if (!parse_int(rd->tok[0], 0, INT_MAX, &ns))
 			return bad(rd, "cell %d: expected the number of sides, got '%.40s'", k, rd->tok[0]);
@@ -492,11 +508,37 @@ static int read_cells(reader *rd, mesh *m, long **cline)
 	return MESH_OK;
 }
 
-/* The optional junctions section into *jl (*njl lines; the caller frees
- * it), then "end". */
-static int read_junctions(reader *rd, const mesh *m, jline **jl, int *njl)
+/* The optional held section into m->held, *hline (the caller frees it)
+ * each pair's input line, then "end". */
+static int read_held(reader *rd, mesh *m, long **hline)
 {
-	TRY(need(rd, "expected 'junctions' or 'end'"));
+	if (strcmp(rd->tok[0], "held") == 0) {
+		int nh;
+		if (rd->ntok != 2 || !parse_int(rd->tok[1], 0, m->nv / 2, &nh))
+			return bad(rd, "expected 'held NH' with a count in 0..%d", m->nv / 2);
+		if (nh > 0 && ((m->held = malloc(2 * (size_t)nh * sizeof *m->held)) == NULL ||
+		               (*hline = malloc((size_t)nh * sizeof **hline)) == NULL))
+			return nomem(rd);
+		for (int i = 0; i < nh; i++) {
+			TRY(need(rd, "fewer held lines than 'held' says"));
+			if (rd->ntok != 2 || !parse_int(rd->tok[0], 0, m->nv - 1, &m->held[2 * i]) ||
+			    !parse_int(rd->tok[1], 0, m->nv - 1, &m->held[2 * i + 1]))
+				return bad(rd, "expected 'A B', a held junction's vertex ids in 0..%d", m->nv - 1);
+			(*hline)[i] = rd->at;
+			m->nheld = i + 1;
+		}
+		TRY(need(rd, "expected 'end'"));
+	}
+	if (strcmp(rd->tok[0], "end") != 0 || rd->ntok != 1)
+		return bad(rd, "expected 'end', got '%.40s'", rd->tok[0]);
+	return MESH_OK;
+}
+
+/* The optional junctions section into *jl (*njl lines; the caller frees
+ * it), then the held section and "end". */
+static int read_junctions(reader *rd, mesh *m, jline **jl, int *njl, long **hline)
+{
+	TRY(need(rd, "expected 'junctions', 'held' or 'end'"));
 	if (strcmp(rd->tok[0], "junctions") == 0) {
 		int nk = m->coff[m->nc], nj;
 		size_t jcap = 0;
@@ -514,11 +556,9 @@ static int read_junctions(reader *rd, const mesh *m, jline **jl, int *njl)
 			q->line = rd->at;
 			(*njl)++;
 		}
-		TRY(need(rd, "expected 'end'"));
+		TRY(need(rd, "expected 'held' or 'end'"));
 	}
-	if (strcmp(rd->tok[0], "end") != 0 || rd->ntok != 1)
-		return bad(rd, "expected 'end', got '%.40s'", rd->tok[0]);
-	return MESH_OK;
+	return read_held(rd, m, hline);
 }
 
 /* The tensions of the junction lines, on the built mesh: each line must
@@ -551,7 +591,7 @@ static int set_tensions(reader *rd, mesh *m, const jline *jl, int njl)
 
 static int read_body(reader *rd, mesh *m)
 {
-	long *cline = NULL;
+	long *cline = NULL, *hline = NULL;
 	jline *jl = NULL;
 	int njl = 0;
 	int st = read_header(rd, m);
@@ -560,7 +600,7 @@ static int read_body(reader *rd, mesh *m)
 	if (st == MESH_OK)
 		st = read_cells(rd, m, &cline);
 	if (st == MESH_OK)
-		st = read_junctions(rd, m, &jl, &njl);
+		st = read_junctions(rd, m, &jl, &njl, &hline);
 	if (st == MESH_OK) {
 		/* The geometry is checked on the coordinates a writer will put
 		 * out (wrapped into the box; unchanged when they are in it), so
@@ -575,8 +615,11 @@ static int read_body(reader *rd, mesh *m)
 	}
 	if (st == MESH_OK)
 		st = set_tensions(rd, m, jl, njl);
+	if (st == MESH_OK)
+		st = mesh_held_check(m, NULL, hline, rd->err);
 	free(cline);
 	free(jl);
+	free(hline);
 	return st;
 }
 

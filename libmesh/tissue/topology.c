@@ -39,20 +39,12 @@ static double min_image(double dx, double l)
 	return -l * nearbyint(dx / l);
 }
 
-/* A T1 touches four cells and five junctions; it is done in place (no
- * mesh_build, which is O(N) with allocations): under strong noise a stuck
- * four-fold vertex can flip back and forth every step. */
-int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
+int mesh_t1_nbhd(const mesh *m, int j, t1_nbhd *n, mesh_error *err)
 {
 	if (j < 0 || j >= m->nj)
 		return mesh_error_set(err, 0, MESH_EDOM, "t1: junction %d out of range 0..%d", j, m->nj - 1);
-	if (!(lnew > 0) || !isfinite(lnew))
-		return mesh_error_set(err, 0, MESH_EDOM, "t1: new length must be positive");
 	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
 	int L = m->jc[2 * j], R = m->jc[2 * j + 1];
-	if (m->coff[L + 1] - m->coff[L] <= 3 || m->coff[R + 1] - m->coff[R] <= 3)
-		return mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d would leave a cell with fewer than 3 sides", a, b);
-
 	/* L runs p a b q, R runs s b a t. */
 	int iaL = corner_of(m, L, a), ibR = corner_of(m, R, b);
 	if (iaL < 0 || ibR < 0 || m->cv[next_corner(m, L, iaL)] != b ||
@@ -70,6 +62,32 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 		return mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d: both vertices must be three-fold", a, b);
 	if (Ca == Cb || Ca == L || Ca == R || Cb == L || Cb == R || L == R)
 		return mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d: the four cells around it are not distinct", a, b);
+	*n = (t1_nbhd){ .a = a, .b = b, .L = L, .R = R, .Ca = Ca, .Cb = Cb, .q = q, .t = t,
+			.jpa = jpa, .jat = jat, .jbq = jbq, .jsb = jsb };
+	return MESH_OK;
+}
+
+/* A T1 touches four cells and five junctions; it is done in place (no
+ * mesh_build, which is O(N) with allocations): under strong noise a stuck
+ * four-fold vertex can flip back and forth every step.  dir: see
+ * mesh_t1_dir (NULL: turned by 90 degrees). */
+static int t1_place(mesh *m, int j, double lnew, const double *dir, int touched[5],
+                    mesh_error *err)
+{
+	if (j < 0 || j >= m->nj)
+		return mesh_error_set(err, 0, MESH_EDOM, "t1: junction %d out of range 0..%d", j, m->nj - 1);
+	if (!(lnew > 0) || !isfinite(lnew))
+		return mesh_error_set(err, 0, MESH_EDOM, "t1: new length must be positive");
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+	int L = m->jc[2 * j], R = m->jc[2 * j + 1];
+	if (m->coff[L + 1] - m->coff[L] <= 3 || m->coff[R + 1] - m->coff[R] <= 3)
+		return mesh_error_set(err, 0, MESH_EDOM, "t1 on junction %d-%d would leave a cell with fewer than 3 sides", a, b);
+	t1_nbhd nb;
+	int st0 = mesh_t1_nbhd(m, j, &nb, err);
+	if (st0 != MESH_OK)
+		return st0;
+	int Ca = nb.Ca, Cb = nb.Cb, q = nb.q, t = nb.t;
+	int jpa = nb.jpa, jat = nb.jat, jbq = nb.jbq, jsb = nb.jsb;
 	int ita = corner_of(m, Ca, t), iqb = corner_of(m, Cb, q);
 	if (ita < 0 || iqb < 0 || m->cv[next_corner(m, Ca, ita)] != a ||
 	    m->cv[next_corner(m, Cb, iqb)] != b)
@@ -90,6 +108,11 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 	}
 	double cx = m->r[2 * a] + 0.5 * d[0], cy = m->r[2 * a + 1] + 0.5 * d[1];
 	double h = 0.5 * lnew;
+	if (dir) {
+		/* b ahead along dir, a behind */
+		nx = -dir[0];
+		ny = -dir[1];
+	}
 	double r2[4] = { cx + h * nx, cy + h * ny, cx - h * nx, cy - h * ny };
 
 	/* Only the corners from the first to the last of the four cells move
@@ -278,6 +301,17 @@ int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
 	if (touched)
 		memcpy(touched, jj, sizeof jj);
 	return MESH_OK;
+}
+
+int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err)
+{
+	return t1_place(m, j, lnew, NULL, touched, err);
+}
+
+int mesh_t1_dir(mesh *m, int j, double lnew, const double dir[2], int touched[5],
+                mesh_error *err)
+{
+	return t1_place(m, j, lnew, dir, touched, err);
 }
 
 int mesh_t1(mesh *m, int j, double lnew, mesh_error *err)

@@ -39,6 +39,24 @@ int mesh_t1(mesh *m, int j, double lnew, mesh_error *err);
  * updates five instead of all. */
 int mesh_t1_touch(mesh *m, int j, double lnew, int touched[5], mesh_error *err);
 
+/* mesh_t1_touch with the new junction along the unit vector dir, a at
+ * c - lnew/2 dir and b at c + lnew/2 dir, c the old junction's midpoint
+ * (a four-fold vertex pulled apart along dir, hold.h). */
+int mesh_t1_dir(mesh *m, int j, double lnew, const double dir[2], int touched[5],
+                mesh_error *err);
+
+/* The neighbourhood of junction j = a-b that a T1 of it rearranges (the
+ * picture above; L runs p a b q, R runs s b a t): its cells, the third
+ * cell at each end (Ca at a, Cb at b), the far ends q, t, and the four
+ * other junctions at a and b (p-a, a-t, b-q, s-b as they are stored,
+ * either orientation).  MESH_EDOM when a or b is not three-fold, the
+ * junction does not fit its cells or the four cells are not distinct. */
+typedef struct {
+	int a, b, L, R, Ca, Cb, q, t;
+	int jpa, jat, jbq, jsb;
+} t1_nbhd;
+int mesh_t1_nbhd(const mesh *m, int j, t1_nbhd *n, mesh_error *err);
+
 /* Renumber the cells by strips through the box
  * (mesh_order_spatial with MESH_ORDER_CELLS, order.h), so that
  * neighbouring cells have nearby numbers.  A T1 shifts the
