@@ -318,10 +318,10 @@ typedef struct {
 } watchrec;
 
 static void watch_hook(void *data, double t, int j, const int lose[2], const int gain[2],
-                       double lbefore)
+                       double lbefore, int kind, double pull)
 {
 	watchrec *w = data;
-	(void)t; (void)j; (void)lose; (void)gain;
+	(void)t; (void)j; (void)lose; (void)gain; (void)kind; (void)pull;
 	if (w->nev < 64)
 		w->lbefore[w->nev] = lbefore;
 	w->nev++;

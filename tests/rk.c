@@ -168,10 +168,13 @@ typedef struct {
 	double L;
 } t1rec;
 
-static void on_t1(void *data, double t, int j, const int lose[2], const int gain[2], double lb)
+static void on_t1(void *data, double t, int j, const int lose[2], const int gain[2], double lb,
+                  int kind, double pull)
 {
 	(void)lose;
 	(void)gain;
+	(void)kind;
+	(void)pull;
 	t1rec *r = data;
 	if (r->n < 4096) {
 		r->t[r->n] = t;

@@ -15,7 +15,7 @@ static const char usage[] =
 	"       [--rate R | --tau T] [--gamma0 G] [--sigma S] [--p0 X] [--ka Y] [--time T]\n"
 	"       [--perturb EPS] [--seed N] [--scheme dp5|bs3|bdf|euler|split] [--rtol X]\n"
 	"       [--checkpoint T] [--ou-dt H] [--dt DT] [--dr DR] [--t1 L] [--t1-new L]\n"
-	"       [--t1-again F] [--t1-rearm L] [--collapse L] [--trace FILE]\n"
+	"       [--t1-again F] [--t1-rearm L] [--t1-rule paper|hold] [--collapse L] [--trace FILE]\n"
 	"       [--trace-every T] [--watch K,..] [--events FILE] [--every T] [--threads N] [MESH]";
 static const char help[] =
 	"Integrate active junction tensions (paper eq. 1) with the overdamped vertex\n"
@@ -56,6 +56,9 @@ static const char help[] =
 	"                     euler, split 0: as soon as it shrinks)\n"
 	"  --t1-rearm L       dp5, bs3: it gets the threshold back once longer\n"
 	"                     than L (default: the threshold; 0: never)\n"
+	"  --t1-rule R        paper (default: a junction at the threshold is turned\n"
+	"                     by 90 degrees) or hold (dp5, bs3: it collapses into a\n"
+	"                     four-fold vertex that resolves when pulled apart)\n"
 	"  --collapse L       T1s off: stop when an active junction is this short\n"
 	"                     (default 0.001)\n"
 	"  --trace FILE       TSV time series (several junctions: %d in FILE is the\n"
@@ -83,7 +86,7 @@ static struct opts parse(int argc, char **argv)
 {
 	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_REGULAR, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
 	       O_SIGMA, O_P0, O_KA, O_TIME, O_PERTURB, O_SEED, O_SCHEME, O_RTOL, O_CHECKPOINT, O_DT, O_DR,
-	       O_T1, O_T1NEW, O_T1AGAIN, O_T1REARM, O_OUDT, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_WATCH, O_EVENTS, O_EVERY, O_VERSION };
+	       O_T1, O_T1NEW, O_T1AGAIN, O_T1REARM, O_T1RULE, O_OUDT, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_WATCH, O_EVENTS, O_EVERY, O_VERSION };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "index", required_argument, NULL, O_INDEX },
@@ -109,6 +112,7 @@ static struct opts parse(int argc, char **argv)
 		{ "t1-new", required_argument, NULL, O_T1NEW },
 		{ "t1-again", required_argument, NULL, O_T1AGAIN },
 		{ "t1-rearm", required_argument, NULL, O_T1REARM },
+		{ "t1-rule", required_argument, NULL, O_T1RULE },
 		{ "ou-dt", required_argument, NULL, O_OUDT },
 		{ "collapse", required_argument, NULL, O_COLLAPSE },
 		{ "trace", required_argument, NULL, O_TRACE },
@@ -153,6 +157,10 @@ static struct opts parse(int argc, char **argv)
 		case O_T1NEW: o.a.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
 		case O_T1AGAIN: o.a.t1_again = cli_double_range("--t1-again", optarg, 0, 0.999); break;
 		case O_T1REARM: o.a.t1_rearm = cli_double_range("--t1-rearm", optarg, 0, 1e6); break;
+		case O_T1RULE:
+			if (act_t1_rule_parse(optarg, &o.a.t1_rule) != MESH_OK)
+				cli_usage_error("--t1-rule: paper or hold, not '%s'", optarg);
+			break;
 		case O_OUDT: o.a.ou_dt = cli_double_range("--ou-dt", optarg, 1e-9, 1); break;
 		case O_COLLAPSE: o.a.l_collapse = cli_double_range("--collapse", optarg, 1e-9, 0.5); break;
 		case O_TRACE: o.trace = optarg; break;
@@ -183,6 +191,8 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("--ou-dt must be 1/N for a whole number N");
 	if (o.a.t1_rearm > 0 && o.a.t1_rearm < o.a.t1_length)
 		cli_usage_error("--t1-rearm must be 0 or at least the T1 threshold");
+	if (o.a.t1_rule == ACT_T1_HOLD && (!act_scheme_rk(o.a.scheme) || !(o.a.t1_length > 0)))
+		cli_usage_error("--t1-rule hold is for dp5 and bs3 with T1s on");
 	if (act_scheme_dense(o.a.scheme) && o.a.t1_length > 0 && o.a.t1_again == 0)
 		cli_usage_error("--t1-again 0 (flip back at once) is for euler and split only");
 	int multi = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_REGULAR || o.js.kind == JSEL_LIST;
@@ -242,10 +252,10 @@ static void on_frame(void *data, mesh *m, double t)
 }
 
 static void on_t1(void *data, double t, int j, const int lose[2], const int gain[2],
-                  double lbefore)
+                  double lbefore, int kind, double pull)
 {
 	struct out *u = data;
-	act_event_write(u->events, t, j, lose, gain, lbefore);
+	act_event_write(u->events, t, j, lose, gain, lbefore, u->o->a.t1_rule == ACT_T1_HOLD, kind, pull);
 }
 
 static void on_begin(void *data, act *a, mesh *m)
@@ -253,7 +263,8 @@ static void on_begin(void *data, act *a, mesh *m)
 	struct out *u = data;
 	if (u->o->trace) {
 		char cols[4096];
-		act_trace_columns(cols, sizeof cols, u->j, u->o->jo.watch, u->o->jo.nwatch);
+		act_trace_columns(cols, sizeof cols, u->j, u->o->a.t1_rule == ACT_T1_HOLD, u->o->jo.watch,
+		                  u->o->jo.nwatch);
 		if (u->rt)
 			u->trace = cli_runtable_open(&u->rt[0], m, cols);
 		else {
@@ -262,11 +273,12 @@ static void on_begin(void *data, act *a, mesh *m)
 		}
 	}
 	if (u->o->events) {
+		const char *ecols = u->o->a.t1_rule == ACT_T1_HOLD ? ACT_EVENT_COLUMNS_HOLD : ACT_EVENT_COLUMNS;
 		if (u->rt)
-			u->events = cli_runtable_open(&u->rt[1], m, ACT_EVENT_COLUMNS);
+			u->events = cli_runtable_open(&u->rt[1], m, ecols);
 		else {
 			u->events = cli_open_numbered(u->o->events, u->jfile);
-			cli_table_header_run(u->events, m, ACT_EVENT_COLUMNS);
+			cli_table_header_run(u->events, m, ecols);
 		}
 		act_set_t1_hook(a, on_t1, u);
 	}

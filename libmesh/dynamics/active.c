@@ -43,6 +43,22 @@ const char *act_scheme_name(act_scheme s)
 	return "euler";
 }
 
+const char *act_t1_rule_name(act_t1_rule r)
+{
+	return r == ACT_T1_HOLD ? "hold" : "paper";
+}
+
+int act_t1_rule_parse(const char *name, act_t1_rule *r)
+{
+	if (strcmp(name, "paper") == 0)
+		*r = ACT_T1_PAPER;
+	else if (strcmp(name, "hold") == 0)
+		*r = ACT_T1_HOLD;
+	else
+		return MESH_EINVAL;
+	return MESH_OK;
+}
+
 int act_scheme_dense(act_scheme s)
 {
 	return s == ACT_BDF || act_scheme_rk(s);
@@ -90,6 +106,8 @@ static int check_opts(const act_opts *o, mesh_error *err)
 	                           (rk || o->t1_new < o->t1_length))))
 		return mesh_error_set(err, 0, MESH_EDOM,
 		                      rk ? "bad T1 lengths (0 < new <= 0.5)" : "bad T1 lengths (0 < new < threshold)");
+	if (o->t1_rule != ACT_T1_PAPER && (o->t1_rule != ACT_T1_HOLD || !rk || !(o->t1_length > 0)))
+		return mesh_error_set(err, 0, MESH_EDOM, "the hold rule is for dp5 and bs3 with T1s on");
 	if (!(o->t1_again >= 0 && o->t1_again < 1) || (events && !(o->t1_again > 0)))
 		return mesh_error_set(err, 0, MESH_EDOM, "t1_again must be in (0, 1) (euler, split: [0, 1))");
 	if (rk) {
@@ -140,6 +158,9 @@ int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *a
 		return st;
 	if (!isfinite(t0))
 		return mesh_error_set(err, 0, MESH_EDOM, "the start time must be finite");
+	if (o->t1_rule != ACT_T1_HOLD &&
+	    (st = mesh_held_none(m, "they need --t1-rule hold (dp5, bs3)", err)) != MESH_OK)
+		return st;
 	act *a = calloc(1, sizeof *a);
 	size_t nj = m->nj ? (size_t)m->nj : 1;
 	if (a == NULL)
@@ -155,7 +176,8 @@ int act_alloc(mesh *m, const model *p, const act_opts *o, const unsigned char *a
 	a->row_grad = malloc(2 * (size_t)m->nv * sizeof *a->row_grad);
 	a->row_dg = malloc(nj * sizeof *a->row_dg);
 	a->row_ws = energy_ws_alloc(m);
-	if (!a->active || !a->aj || !a->row_r || !a->row_grad || !a->row_dg || !a->row_ws ||
+	a->row_sides = malloc((size_t)m->nc * sizeof *a->row_sides);
+	if (!a->active || !a->aj || !a->row_r || !a->row_grad || !a->row_dg || !a->row_ws || !a->row_sides ||
 	    mesh_tension_alloc(m) != MESH_OK)
 		goto nomem;
 	for (int j = 0; j < m->nj; j++) {
@@ -190,6 +212,7 @@ void act_free(act *a)
 	free(a->row_grad);
 	free(a->row_dg);
 	energy_ws_free(a->row_ws);
+	free(a->row_sides);
 	free(a->watch);
 	free(a->wl);
 	free(a->wdg);
@@ -206,6 +229,7 @@ void act_counts_get(const act *a, act_counts *c)
 {
 	*c = a->c;
 	c->t = a->t;
+	c->nheld = a->m->nheld;
 }
 
 void act_counts_set(act *a, const act_counts *c)
@@ -264,7 +288,24 @@ int act_row_at(act *a, double t, int j, act_row *row)
 		return st;
 	const double *r = a->row_r, *dg = a->row_dg;
 	*row = (act_row){ .t = t, .l = NAN, .dg = NAN, .ldot = NAN, .nt1 = a->c.nt1,
-			  .nt1_again = a->c.nt1_again };
+			  .nt1_again = a->c.nt1_again, .hold = a->o.t1_rule == ACT_T1_HOLD,
+			  .nheld = m->nheld };
+	/* held junctions: no side of their cells, no junction, no tension */
+	unsigned char *held = NULL;
+	if (m->nheld > 0) {
+		int *hj = malloc((size_t)m->nheld * sizeof *hj);
+		held = calloc((size_t)m->nj, 1);
+		if (hj == NULL || held == NULL || mesh_held_junctions(m, hj) != MESH_OK ||
+		    mesh_held_sides(m, a->row_sides) != MESH_OK) {
+			free(hj);
+			free(held);
+			return MESH_ENOMEM;
+		}
+		for (int i = 0; i < m->nheld; i++)
+			if (hj[i] >= 0)
+				held[hj[i]] = 1;
+		free(hj);
+	}
 	row->W = mesh_energy_tension(m, r, &a->p, dg, a->row_grad, a->row_ws);
 	if (j >= 0) {
 		double d[2];
@@ -276,16 +317,21 @@ int act_row_at(act *a, double t, int j, act_row *row)
 	}
 	int nhex = 0;
 	for (int k = 0; k < m->nc; k++)
-		nhex += m->coff[k + 1] - m->coff[k] == 6;
+		nhex += (held ? a->row_sides[k] : m->coff[k + 1] - m->coff[k]) == 6;
 	row->f6 = (double)nhex / m->nc;
 	double s = 0, s2 = 0;
+	int na = 0;
 	for (int k = 0; k < a->na; k++)
-		s += dg[a->aj[k]];
-	double mean = a->na ? s / a->na : 0;
+		if (!held || !held[a->aj[k]]) {
+			s += dg[a->aj[k]];
+			na++;
+		}
+	double mean = na ? s / na : 0;
 	for (int k = 0; k < a->na; k++)
-		s2 += (dg[a->aj[k]] - mean) * (dg[a->aj[k]] - mean);
+		if (!held || !held[a->aj[k]])
+			s2 += (dg[a->aj[k]] - mean) * (dg[a->aj[k]] - mean);
 	row->dg_mean = mean;
-	row->dg_sd = a->na > 1 ? sqrt(s2 / (a->na - 1)) : 0;
+	row->dg_sd = na > 1 ? sqrt(s2 / (na - 1)) : 0;
 	double d[2];
 	for (int k = 0; k < a->nwatch; k++) {
 		a->wl[k] = junction_vec_sqrt(m, r, a->watch[k], d);
@@ -297,8 +343,10 @@ int act_row_at(act *a, double t, int j, act_row *row)
 	row->lmin = INFINITY;
 	for (int k = 0; k < m->nj; k++) {
 		double l = junction_vec_sqrt(m, r, k, d);
-		row->lmin = l < row->lmin ? l : row->lmin;
+		if (!held || !held[k])
+			row->lmin = l < row->lmin ? l : row->lmin;
 	}
+	free(held);
 	return MESH_OK;
 }
 

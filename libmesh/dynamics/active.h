@@ -38,6 +38,12 @@
  *              path at every rtol, and the steps end on the grid.  The
  *              default for networks (bench/RESULTS.md).
  *
+ * The T1 rule (act_opts.t1_rule): ACT_T1_PAPER, the paper's (a junction
+ * that reaches the threshold is turned by 90 degrees to a new junction of
+ * length t1_new, tension 0), or ACT_T1_HOLD (dp5 and bs3): it collapses
+ * into a four-fold vertex that moves as one body and resolves, as an
+ * event, when one of its two resolutions is pulled apart (hold.h).
+ *
  * Events are found as roots of the trajectory, not overshot: with T1s off,
  * the run ends when an active junction reaches l_collapse (ACT_COLLAPSE);
  * with T1s on (t1_length > 0) a junction reaching t1_length is T1'd.  Euler
@@ -59,11 +65,15 @@
 #include "mesh.h"
 
 typedef enum { ACT_EULER, ACT_BDF, ACT_SPLIT, ACT_DP5, ACT_BS3 } act_scheme;
+typedef enum { ACT_T1_PAPER, ACT_T1_HOLD } act_t1_rule;
 
 /* "euler", "bdf", "split", "dp5", "bs3"; and back (MESH_EINVAL for
  * another name). */
 const char *act_scheme_name(act_scheme s);
 int act_scheme_parse(const char *name, act_scheme *s);
+/* "paper", "hold"; and back (MESH_EINVAL for another name). */
+const char *act_t1_rule_name(act_t1_rule r);
+int act_t1_rule_parse(const char *name, act_t1_rule *r);
 /* Whether the scheme has an interpolant between its step ends (bdf, dp5,
  * bs3): then act_sample gives the state at any time of the last step. */
 int act_scheme_dense(act_scheme s);
@@ -125,6 +135,8 @@ typedef struct {
 	                       this length (< 0: t1_length, the default; 0:
 	                       never, it stays on t1_again t1_new); at least
 	                       t1_length */
+	act_t1_rule t1_rule; /* ACT_T1_PAPER; ACT_T1_HOLD: DP5, BS3 with T1s
+	                       on (hold.h) */
 	double l_collapse;  /* T1s off: stop when an active junction is this
 	                       short (1e-3) */
 	double checkpoint;  /* BDF: restart the integrator at multiples of this
@@ -158,6 +170,12 @@ typedef struct {
 	long nt1_again;    /* T1s of a junction made by a T1 before it grew
 	                      past t1_length: flip-backs */
 	long nreject;      /* DP5, BS3: rejected steps */
+	long nhold;        /* ACT_T1_HOLD: junctions collapsed into held
+	                      four-fold vertices */
+	long nreform;      /* ACT_T1_HOLD: held vertices resolved back into
+	                      the junction that collapsed (nt1 counts those
+	                      resolved into the T1) */
+	int nheld;         /* ACT_T1_HOLD: held vertices now */
 	int jcollapse;     /* ACT_END_COLLAPSE: the junction, else -1 */
 } act_counts;
 
@@ -176,9 +194,15 @@ void act_free(act *a);
 typedef int (*act_observer)(act *a, void *data);
 
 /* Called for every T1 (after it is done): time, junction, the two cells
- * that lost it, the two that gained it, its length just before. */
+ * that lost it, the two that gained it, its length just before; with
+ * ACT_T1_HOLD also for every collapse and resolution (kind, below: a
+ * collapse loses the two cells it separated as sides, a re-forming gains
+ * them back, with -1 for the other pair; l_before 0 at a resolution), with
+ * the pull (hold.h) of the resolution taken, or after a collapse the
+ * larger of the two (NaN for the paper's T1). */
+enum { ACT_EV_T1, ACT_EV_HOLD, ACT_EV_REFORM };
 typedef void (*act_t1_hook)(void *data, double t, int j, const int lose[2],
-                            const int gain[2], double lbefore);
+                            const int gain[2], double lbefore, int kind, double pull);
 void act_set_t1_hook(act *a, act_t1_hook hook, void *data);
 
 /* Integrate to t_end (the last step ends exactly there) or an event.
@@ -213,10 +237,13 @@ int act_sample(act *a, double t, double *r, double *dg);
  * act_sample): junction j's length, tension and dl/dt (j < 0: not
  * filled), W, the hexagon fraction, the mean and standard deviation of
  * the active tensions, the shortest junction, the T1 count and how many
- * of them were flip-backs (act_counts). */
+ * of them were flip-backs (act_counts); with ACT_T1_HOLD (hold set) the
+ * held four-fold vertices, which f6 and lmin count as the tissue's
+ * polygons have them (a held junction is no side and no junction). */
 typedef struct {
 	double t, l, dg, ldot, W, f6, dg_mean, dg_sd, lmin;
 	long nt1, nt1_again;
+	int hold, nheld;
 	int nwatch;               /* act_watch: the watched junctions' */
 	const double *wl, *wdg;   /* lengths and tensions (act's, valid until
 	                             the next act_row_at) */
@@ -338,17 +365,19 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
             volatile sig_atomic_t *stop, const act_io *io, act_result *r, mesh_error *err);
 
 /* The tables of tis-active(1).  The trace (--trace): one junction (j >= 0)
- * t l dg ldot W, a network t f6 W nt1 dg_mean dg_sd lmin nt1_again and
- * l_K dg_K for each watched junction K; act_trace_columns writes the
- * names (tab-separated, as many watched ones as fit in n) into buf,
- * act_trace_write a row.  The T1 events (--events), one row per T1
- * (act_t1_hook's arguments).  Several runs (--random, --list): one row
- * per junction j of the input m0. */
-void act_trace_columns(char *buf, size_t n, int j, const int *watch, int nwatch);
+ * t l dg ldot W, a network t f6 W nt1 dg_mean dg_sd lmin nt1_again (and
+ * nheld with ACT_T1_HOLD) and l_K dg_K for each watched junction K;
+ * act_trace_columns writes the names (tab-separated, as many watched ones
+ * as fit in n) into buf, act_trace_write a row.  The T1 events (--events),
+ * one row per T1 (act_t1_hook's arguments; with ACT_T1_HOLD every event,
+ * its kind, "t1", "hold" or "reform", and pull).  Several runs (--random,
+ * --list): one row per junction j of the input m0. */
+void act_trace_columns(char *buf, size_t n, int j, int hold, const int *watch, int nwatch);
 void act_trace_write(FILE *f, const act_row *w, int j);
 #define ACT_EVENT_COLUMNS "t\tj\tlose1\tlose2\tgain1\tgain2\tl_before"
+#define ACT_EVENT_COLUMNS_HOLD ACT_EVENT_COLUMNS "\tkind\tpull"
 void act_event_write(FILE *f, double t, int j, const int lose[2], const int gain[2],
-                     double lbefore);
+                     double lbefore, int hold, int kind, double pull);
 #define ACT_RESULT_COLUMNS "j\ta\tb\tl0\treason\tt_end\tt_c\tl_end\tdg_end\tl_min\tl_max\tnstep"
 void act_result_write(FILE *f, const mesh *m0, int j, const act_result *r);
 

@@ -529,7 +529,7 @@ static int bdf_t1s(act *a, mesh_error *err)
 		a->c.nt1++;
 		a->c.nt1_again += b->thr[best] == a->o.t1_again * a->o.t1_new;
 		if (a->hook)
-			a->hook(a->hook_data, a->t, best, lose, m->jc + 2 * best, lb);
+			a->hook(a->hook_data, a->t, best, lose, m->jc + 2 * best, lb, ACT_EV_T1, NAN);
 		/* a new junction is T1'd again if it shrinks to t1_again of its
 		 * new length; the touched ones keep their thresholds */
 		b->thr[best] = a->o.t1_again * a->o.t1_new;

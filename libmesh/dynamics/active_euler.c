@@ -30,7 +30,7 @@ static void euler_t1(void *data, const dyn *d, int j, const int lose[2], const i
 	dyn_counts c;
 	dyn_counts_get(d, &c);
 	if (a->hook)
-		a->hook(a->hook_data, c.t, j, lose, gain, lbefore);
+		a->hook(a->hook_data, c.t, j, lose, gain, lbefore, ACT_EV_T1, NAN);
 }
 
 /* A fresh integrator (dynamics.c) at the current state, time and noise

@@ -61,6 +61,7 @@ struct act {
 	int nwatch;
 	double *wl, *wdg;       /* their lengths and tensions in a row */
 	energy_ws *row_ws;
+	int *row_sides;         /* nc: the cells' sides as polygons */
 };
 
 /* The run of a scheme with a segment function: segments that end at

@@ -47,6 +47,8 @@ static void job_key(const model *p, const act_opts *o, const act_job_opts *jo, i
 	mesh_run_key_num(buf, n, "t1", o->t1_length);
 	mesh_run_key_num(buf, n, "t1_new", o->t1_new);
 	mesh_run_key_num(buf, n, "t1_again", o->t1_again);
+	if (o->t1_rule != ACT_T1_PAPER)
+		mesh_run_key(buf, n, "t1_rule", act_t1_rule_name(o->t1_rule));
 	mesh_run_key_num(buf, n, "collapse", o->l_collapse);
 	snprintf(t, sizeof t, "%lu", jo->seed);
 	mesh_run_key(buf, n, "seed", t);
@@ -227,6 +229,11 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 	}
 	job_key(p, o, jo, j, key, sizeof key);
 	mesh_error e2;
+	if (o->t1_rule != ACT_T1_HOLD &&
+	    mesh_held_none(m, "they need --t1-rule hold (dp5, bs3)", &e2) != MESH_OK) {
+		st = mesh_error_set(err, 0, MESH_EINVAL, "%s: %s", jo->name ? jo->name : "<mesh>", e2.msg);
+		goto out;
+	}
 	if ((st = mesh_run_check(m, "tis-active", key, &continued, &e2)) != MESH_OK) {
 		st = mesh_error_set(err, 0, st, "%s: %s", jo->name ? jo->name : "<mesh>", e2.msg);
 		goto out;
@@ -307,16 +314,21 @@ int act_note(char *buf, size_t n, const act_opts *o, const act_result *r)
 	if (act_scheme_rk(o->scheme))
 		len += snprintf(buf + len, n > (size_t)len ? n - len : 0, ", %ld rejected steps",
 				r->c.nreject);
+	if (o->t1_rule == ACT_T1_HOLD)
+		len += snprintf(buf + len, n > (size_t)len ? n - len : 0,
+				", %ld held, %ld re-formed, %d held at the end", r->c.nhold,
+				r->c.nreform, r->c.nheld);
 	return len;
 }
 
-void act_trace_columns(char *buf, size_t n, int j, const int *watch, int nwatch)
+void act_trace_columns(char *buf, size_t n, int j, int hold, const int *watch, int nwatch)
 {
 	if (j >= 0) {
 		snprintf(buf, n, "t\tl\tdg\tldot\tW");
 		return;
 	}
-	int len = snprintf(buf, n, "t\tf6\tW\tnt1\tdg_mean\tdg_sd\tlmin\tnt1_again");
+	int len = snprintf(buf, n, "t\tf6\tW\tnt1\tdg_mean\tdg_sd\tlmin\tnt1_again%s",
+	                   hold ? "\tnheld" : "");
 	for (int k = 0; k < nwatch && len + 96 < (int)n; k++)
 		len += snprintf(buf + len, n - len, "\tl_%d\tdg_%d", watch[k], watch[k]);
 }
@@ -328,6 +340,8 @@ void act_trace_write(FILE *f, const act_row *w, int j)
 	else
 		fprintf(f, "%.10g\t%.6f\t%.12g\t%ld\t%.8g\t%.8g\t%.8g\t%ld", w->t, w->f6, w->W,
 		        w->nt1, w->dg_mean, w->dg_sd, w->lmin, w->nt1_again);
+	if (j < 0 && w->hold)
+		fprintf(f, "\t%d", w->nheld);
 	for (int k = 0; k < w->nwatch; k++)
 		fprintf(f, "\t%.10g\t%.10g", w->wl[k], w->wdg[k]);
 	if (j < 0)
@@ -335,10 +349,14 @@ void act_trace_write(FILE *f, const act_row *w, int j)
 }
 
 void act_event_write(FILE *f, double t, int j, const int lose[2], const int gain[2],
-                     double lbefore)
+                     double lbefore, int hold, int kind, double pull)
 {
-	fprintf(f, "%.10g\t%d\t%d\t%d\t%d\t%d\t%.10g\n", t, j, lose[0], lose[1], gain[0],
+	static const char *const kinds[] = { "t1", "hold", "reform" };
+	fprintf(f, "%.10g\t%d\t%d\t%d\t%d\t%d\t%.10g", t, j, lose[0], lose[1], gain[0],
 	        gain[1], lbefore);
+	if (hold)
+		fprintf(f, "\t%s\t%.6g", kinds[kind], pull);
+	fputc('\n', f);
 }
 
 void act_result_write(FILE *f, const mesh *m0, int j, const act_result *r)

@@ -50,7 +50,9 @@
 #include "events.h"
 #include "noise.h"
 #include "eq1.h"
+#include "hold.h"
 #include "t1rule.h"
+#include "topology.h"
 #include "vec2.h"
 
 #define SMAX 7
@@ -97,7 +99,10 @@ static const double D5[SMAX] = { -12715105075.0 / 11282082432.0, 0,
 				 701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0,
 				 69997945.0 / 29380423.0 };
 
-enum { ARMED, FRESH, REFUSED };
+/* A junction's T1 mode: on the threshold, on the lowered threshold of a
+ * junction just made (FRESH), refused, or held (ACT_T1_HOLD: a four-fold
+ * vertex, no threshold). */
+enum { ARMED, FRESH, REFUSED, HELD };
 
 typedef struct rk rk;
 
@@ -125,6 +130,15 @@ struct rk {
 	double *lt;              /* nj: scratch lengths */
 	int avx2;                /* the loops' AVX2 build */
 	int *t1j, nt1j;          /* the junctions of the last event's T1s */
+	/* ACT_T1_HOLD: the held junctions (m->held's, numbered), which of
+	 * them could not be resolved (until their pull drops to 0 again),
+	 * their pulls at the step's ends, the active index of every junction
+	 * (-1: passive), the tensions at a dense sample, and the junctions
+	 * made by a T1 not re-armed since (for flip-back counts) */
+	int *hj, nh;
+	unsigned char *stuck, *t1made;
+	double *p0, *p1, *dgs;
+	int *ai;
 	double hcap;             /* the first step after them at most this */
 	int *eidx, *cand;
 	double *et0, *eg0, *eg1;
@@ -254,6 +268,13 @@ tensions_w(act *a, const double *restrict y, double *restrict dg, const int wide
 	}
 	for (; i < na; i++)
 		dg[aj[i]] = w[i] / len[i] - g0;
+	/* a held junction has no length and no tension (hold.h) */
+	for (int h = 0; h < k->nh; h++) {
+		int j = k->hj[h];
+		dg[j] = 0;
+		if (k->ai[j] >= 0)
+			k->len[k->ai[j]] = 0;
+	}
 }
 
 static void tensions(act *a, const double *restrict y, double *restrict dg)
@@ -268,6 +289,8 @@ rhs_w(act *a, const double *restrict y, double *restrict f, const int wide)
 	const mesh *m = a->m;
 	tensions_w(a, y, k->dg, wide);
 	mesh_energy_tension(m, y, &a->p, k->dg, k->grad, k->ws);
+	if (k->nh > 0)
+		hold_grad(m, &a->p, y, k->dg, k->hj, k->nh, k->grad);
 	const double *restrict g = k->grad;
 	const int n2 = k->n2, na = a->na;
 	/* f - f is 0 for a finite f, NaN otherwise: one sum tells */
@@ -445,7 +468,79 @@ static void arm(act *a, int j)
 	rk *k = a->s;
 	k->mode[j] = ARMED;
 	k->fresh[j] = 0;
+	k->t1made[j] = 0;
 	k->thr[j] = a->o.t1_length > 0 ? a->o.t1_length : a->o.l_collapse;
+}
+
+/* ---- held four-fold vertices (ACT_T1_HOLD, hold.h) ---- */
+
+/* The held junctions from the mesh's held pairs (a start: what a read
+ * mesh holds), each junction's active index. */
+static int held_sync(act *a)
+{
+	rk *k = a->s;
+	mesh *m = a->m;
+	for (int j = 0; j < m->nj; j++) {
+		k->ai[j] = -1;
+		k->stuck[j] = 0;
+		if (k->mode[j] == HELD) {
+			unsigned char t1m = k->t1made[j];
+			arm(a, j);
+			k->t1made[j] = t1m;
+		}
+	}
+	for (int i = 0; i < a->na; i++)
+		k->ai[a->aj[i]] = i;
+	k->nh = 0;
+	if (m->nheld == 0)
+		return MESH_OK;
+	if (mesh_held_junctions(m, k->hj) != MESH_OK)
+		return MESH_ENOMEM;
+	for (int i = 0; i < m->nheld; i++) {
+		int j = k->hj[i];
+		if (j < 0)
+			continue;
+		k->mode[j] = HELD;
+		k->fresh[j] = 0;
+		k->thr[j] = -INFINITY;   /* no threshold crossed */
+		k->hj[k->nh++] = j;
+	}
+	return MESH_OK;
+}
+
+/* The larger pull of held junction j at coordinates r, tensions dg (hold.h),
+ * which resolution into *w and its direction into dir; the pulling force
+ * |F_b - F_a|/2 into *scale. */
+static double pull_at(const act *a, const double *r, const double *dg, int j, int *w, double dir[2],
+                      double *scale)
+{
+	hold_forces h;
+	if (hold_forces_at(a->m, &a->p, r, dg, j, &h) != MESH_OK) {
+		*w = HOLD_REFORM;
+		if (dir)
+			dir[0] = dir[1] = 0;
+		if (scale)
+			*scale = 0;
+		return -INFINITY;
+	}
+	double p;
+	*w = hold_best(&h, &p);
+	if (dir) {
+		dir[0] = h.dir[*w][0];
+		dir[1] = h.dir[*w][1];
+	}
+	if (scale)
+		*scale = p + h.tnew[*w];
+	return p;
+}
+
+/* Every held junction's pull at the mesh's state into p (by junction). */
+static void pull_ends(const act *a, double *p)
+{
+	const rk *k = a->s;
+	int w;
+	for (int h = 0; h < k->nh; h++)
+		p[k->hj[h]] = pull_at(a, a->m->r, a->m->dg, k->hj[h], &w, NULL, NULL);
 }
 
 static int rk_alloc(act *a, mesh_error *err)
@@ -479,10 +574,18 @@ static int rk_alloc(act *a, mesh_error *err)
 	k->eidx = calloc(2 * nj, sizeof *k->eidx);
 	k->cand = calloc(nj, sizeof *k->cand);
 	k->t1j = calloc(nj, sizeof *k->t1j);
+	k->hj = calloc(nj, sizeof *k->hj);
+	k->ai = calloc(nj, sizeof *k->ai);
+	k->stuck = calloc(nj, 1);
+	k->t1made = calloc(nj, 1);
+	k->p0 = calloc(nj, sizeof *k->p0);
+	k->p1 = calloc(nj, sizeof *k->p1);
+	k->dgs = calloc(nj, sizeof *k->dgs);
 	k->ws = energy_ws_alloc(m);
 	/* the kernel's choice of build is this code's too */
 	k->avx2 = k->ws && energy_ws_simd(k->ws, 1) == 1;
-	if (!ok || !k->len || !k->force || !k->mode || !k->fresh || !k->eidx || !k->cand || !k->t1j || !k->ws)
+	if (!ok || !k->len || !k->force || !k->mode || !k->fresh || !k->eidx || !k->cand || !k->t1j || !k->hj ||
+	    !k->ai || !k->stuck || !k->t1made || !k->p0 || !k->p1 || !k->dgs || !k->ws)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	if (a->o.sigma > 0 && (k->g = ou_alloc(a->seed)) == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
@@ -508,6 +611,13 @@ static void rk_free(act *a)
 	free(k->eidx);
 	free(k->cand);
 	free(k->t1j);
+	free(k->hj);
+	free(k->ai);
+	free(k->stuck);
+	free(k->t1made);
+	free(k->p0);
+	free(k->p1);
+	free(k->dgs);
 	energy_ws_free(k->ws);
 	ou_free(k->g);
 	free(k);
@@ -571,6 +681,9 @@ static int start(act *a)
 {
 	rk *k = a->s;
 	lengths(a, a->m->r, k->l0);
+	for (int h = 0; h < k->nh; h++)
+		k->l0[k->hj[h]] = 0;
+	pull_ends(a, k->p0);
 	pack(a, k->y0, k->l0);
 	k->have_step = 0;
 	a->tprev = a->t;
@@ -683,17 +796,93 @@ static inline __attribute__((always_inline)) double trial_w(act *a, double h, co
 
 RK_BUILDS(double, trial, (act *a, double h), a, h)
 
-/* T1 every junction that is below its threshold now (the mesh is at the
- * event or a start), shortest first, as the paper's rule says: the one
- * whose event was found, others that crossed at the same time, and those
- * that a T1 next to them carried below the threshold (the vertices of the
- * T1'd junction jump).  Returns the number done. */
-static int t1s(act *a, mesh_error *err)
+/* ACT_T1_HOLD: resolve the held junction with the largest positive pull
+ * at the mesh's state (none stuck); 1 done, 0 none, -1 out of memory. */
+static int resolve_one(act *a, mesh_error *err)
 {
 	rk *k = a->s;
 	mesh *m = a->m;
-	int done = 0;
+	int best = -1, w = 0, bw = 0;
+	double pb = 0, dir[2], bdir[2] = { 0, 0 };
+	for (int h = 0; h < k->nh; h++) {
+		int j = k->hj[h];
+		if (k->stuck[j])
+			continue;
+		double p = pull_at(a, m->r, m->dg, j, &w, dir, NULL);
+		if (p > pb || (p == pb && p > 0 && j < best)) {
+			pb = p;
+			best = j;
+			bw = w;
+			bdir[0] = dir[0];
+			bdir[1] = dir[1];
+		}
+	}
+	if (best < 0)
+		return 0;
+	t1_nbhd nb;
+	mesh_error e2;
+	if (mesh_t1_nbhd(m, best, &nb, &e2) != MESH_OK) {
+		k->stuck[best] = 1;
+		return 1;
+	}
+	int touched[5];
+	int st = hold_resolve(m, best, bw, bdir, a->o.t1_new, touched, &e2);
+	if (st == MESH_ENOMEM) {
+		mesh_error_set(err, 0, st, "out of memory");
+		return -1;
+	}
+	if (st != MESH_OK) {
+		/* not now: again once its pull has dropped and risen */
+		k->stuck[best] = 1;
+		return 1;
+	}
+	for (int h = 0; h < k->nh; h++)
+		if (k->hj[h] == best) {
+			k->hj[h] = k->hj[--k->nh];
+			break;
+		}
+	int lose[2] = { -1, -1 }, gain[2] = { -1, -1 };
+	if (bw == HOLD_T1) {
+		a->c.nt1++;
+		a->c.nt1_again += k->t1made[best];
+		lose[0] = nb.L;
+		lose[1] = nb.R;
+		gain[0] = nb.Ca;
+		gain[1] = nb.Cb;
+	} else {
+		a->c.nreform++;
+		gain[0] = nb.L;
+		gain[1] = nb.R;
+	}
+	/* made by a T1 now, or as it was before it collapsed */
+	int made = bw == HOLD_T1 ? 1 : k->t1made[best];
+	k->mode[best] = FRESH;
+	k->fresh[best] = 1;
+	k->thr[best] = fresh_threshold(a);
+	k->t1made[best] = (unsigned char)made;
+	k->t1j[k->nt1j++] = best;
+	if (a->hook)
+		a->hook(a->hook_data, a->t, best, lose, gain, 0, bw == HOLD_T1 ? ACT_EV_T1 : ACT_EV_REFORM, pb);
+	for (int e = 0; e < 5; e++)
+		jlengths(m, m->r, touched + e, 1, k->lt + touched[e]);
+	return 1;
+}
+
+/* The T1s (ACT_T1_PAPER) or collapses (ACT_T1_HOLD) of every junction that
+ * is below its threshold now (the mesh is at the event or a start),
+ * shortest first, as the paper's rule says: the one whose event was found,
+ * others that crossed at the same time, and those that a T1 next to them
+ * carried below the threshold (the vertices of the T1'd junction jump);
+ * then, ACT_T1_HOLD, the resolutions of held vertices pulled apart, the
+ * one pulled harder first (one just made too), and again.  The junctions
+ * made in k->t1j.  Returns their number, -1 out of memory. */
+static int events_at(act *a, mesh_error *err)
+{
+	rk *k = a->s;
+	mesh *m = a->m;
+	const int hold = a->o.t1_rule == ACT_T1_HOLD;
 	double *lt = k->lt;
+	k->nt1j = 0;
 	/* every length once, then only those a T1 changed */
 	jlengths(m, m->r, NULL, m->nj, lt);
 	for (;;) {
@@ -706,10 +895,29 @@ static int t1s(act *a, mesh_error *err)
 				best = j;
 			}
 		}
-		if (best < 0)
-			return k->nt1j = done;
+		if (best < 0) {
+			int r = hold ? resolve_one(a, err) : 0;
+			if (r < 0)
+				return -1;
+			if (r > 0)
+				continue;
+			return k->nt1j;
+		}
 		int lose[2], touched[5];
-		int st = t1_do(m, best, a->o.t1_new, lose, touched);
+		mesh_error e2;
+		int st;
+		if (hold) {
+			t1_nbhd nb;
+			st = mesh_t1_nbhd(m, best, &nb, &e2);
+			if (st == MESH_OK && (st = hold_collapse(m, best, &e2)) == MESH_OK) {
+				const int t5[5] = { best, nb.jpa, nb.jat, nb.jbq, nb.jsb };
+				memcpy(touched, t5, sizeof t5);
+				lose[0] = nb.L;
+				lose[1] = nb.R;
+			}
+		} else {
+			st = t1_do(m, best, a->o.t1_new, lose, touched);
+		}
 		if (st == MESH_ENOMEM) {
 			mesh_error_set(err, 0, st, "out of memory");
 			return -1;
@@ -723,17 +931,54 @@ static int t1s(act *a, mesh_error *err)
 			k->thr[best] = 0.5 * lb;
 			continue;
 		}
-		k->t1j[done++] = best;
-		a->c.nt1++;
-		a->c.nt1_again += k->mode[best] == FRESH;
-		k->mode[best] = FRESH;
-		k->fresh[best] = 1;
-		k->thr[best] = fresh_threshold(a);
-		if (a->hook)
-			a->hook(a->hook_data, a->t, best, lose, m->jc + 2 * best, lb);
+		if (hold) {
+			a->c.nhold++;
+			k->mode[best] = HELD;
+			k->fresh[best] = 0;
+			k->thr[best] = -INFINITY;
+			k->stuck[best] = 0;
+			k->hj[k->nh++] = best;
+			int w;
+			double p = pull_at(a, m->r, m->dg, best, &w, NULL, NULL);
+			const int gain[2] = { -1, -1 };
+			if (a->hook)
+				a->hook(a->hook_data, a->t, best, lose, gain, lb, ACT_EV_HOLD, p);
+		} else {
+			k->t1j[k->nt1j++] = best;
+			a->c.nt1++;
+			a->c.nt1_again += k->mode[best] == FRESH;
+			k->mode[best] = FRESH;
+			k->fresh[best] = 1;
+			k->thr[best] = fresh_threshold(a);
+			if (a->hook)
+				a->hook(a->hook_data, a->t, best, lose, m->jc + 2 * best, lb, ACT_EV_T1, NAN);
+		}
 		for (int e = 0; e < 5; e++)
 			jlengths(m, m->r, touched + e, 1, lt + touched[e]);
 	}
+}
+
+/* The step cut at the event at t (of junction j, -1 a held vertex's): the
+ * state there in the mesh. */
+static int cut(act *a, double t, int j, double *tev)
+{
+	rk *k = a->s;
+	*tev = t;
+	dense_all(a, theta(k, t), k->yt);
+	to_mesh(a, k->yt);
+	k->cand[0] = j;
+	return 1;
+}
+
+/* Event j: held junction j's larger pull on the dense output at t. */
+static double pull_g(void *data, int j, double t)
+{
+	act *a = data;
+	rk *k = a->s;
+	dense_all(a, theta(k, t), k->ys);
+	tensions(a, k->ys, k->dgs);
+	int w;
+	return pull_at(a, k->ys, k->dgs, j, &w, NULL, NULL);
 }
 
 /* The events of the step just taken (y0 at k->ts to y1 at t1): re-arms
@@ -753,6 +998,31 @@ static int step_events(act *a, double t1, double *tev)
 		for (int i = 0; i < a->na; i++)
 			k->l1[a->aj[i]] = k->len[i];
 	}
+	/* the first held vertex pulled apart in the step: its pull crossing 0
+	 * upwards, located to rtol of the pulling force */
+	double tres = INFINITY;
+	if (k->nh > 0) {
+		int n = 0;
+		double ftol = INFINITY;
+		pull_ends(a, k->p1);
+		for (int h = 0; h < k->nh; h++) {
+			int j = k->hj[h], w;
+			if (k->stuck[j] && !(k->p1[j] > 0))
+				k->stuck[j] = 0;
+			if (k->stuck[j] || !ev_crossed(k->p0[j], k->p1[j], 1))
+				continue;
+			double sc;
+			pull_at(a, m->r, m->dg, j, &w, NULL, &sc);
+			ftol = fmin(ftol, a->o.rtol * sc);
+			k->eidx[n] = j;
+			k->et0[n] = k->ts;
+			k->eg0[n] = k->p0[j];
+			k->eg1[n++] = k->p1[j];
+		}
+		int which;
+		if (n > 0)
+			ev_first(pull_g, a, k->eidx, k->et0, k->eg0, k->eg1, n, t1, ftol, ttol, &which, &tres);
+	}
 	for (;;) {
 		int n = 0;
 		for (int q = 0; q < nj; q++) {
@@ -770,8 +1040,10 @@ static int step_events(act *a, double t1, double *tev)
 				k->eg1[n++] = k->l1[j] - ra;
 			}
 		}
-		if (n == 0)
+		if (n == 0 && tres == INFINITY)
 			return 0;
+		if (n == 0)
+			return cut(a, tres, -1, tev);
 		/* the tolerance of the shortest of the candidates' lengths (a
 		 * junction on its lowered threshold, 0.9 t1_new, beside others on
 		 * the threshold: each is located within rtol of its own) */
@@ -785,6 +1057,8 @@ static int step_events(act *a, double t1, double *tev)
 		double ltol = a->o.rtol * lev;
 		ev_first(event_g, a, k->eidx, k->et0, k->eg0, k->eg1, n, t1, ltol, ttol, &which, &t);
 		int i = k->eidx[which], j = i >> 1;
+		if (tres < t)
+			return cut(a, tres, -1, tev);
 		if (i & 1) {
 			/* a re-arm: from here on j is an armed junction */
 			arm(a, j);
@@ -792,12 +1066,7 @@ static int step_events(act *a, double t1, double *tev)
 			k->l0[j] = dense_length(a, j, t);
 			continue;
 		}
-		*tev = t;
-		double th = theta(k, t);
-		dense_all(a, th, k->yt);
-		to_mesh(a, k->yt);
-		k->cand[0] = j;
-		return 1;
+		return cut(a, t, j, tev);
 	}
 }
 
@@ -824,7 +1093,7 @@ static double t1_step(const act *a)
 		int j = k->t1j[i], va = m->jv[2 * j], vb = m->jv[2 * j + 1];
 		double dx = f[2 * vb] - f[2 * va], dy = f[2 * vb + 1] - f[2 * va + 1];
 		double v = sqrt(dx * dx + dy * dy);
-		if (v > 0 && k->l0[j] / v < h)
+		if (v > 0 && k->l0[j] > 0 && k->l0[j] / v < h)
 			h = k->l0[j] / v;
 	}
 	return T1_STEP * h * pow(a->o.rtol / 1e-6, 1.0 / (k->tb->q + 1));
@@ -848,6 +1117,8 @@ static int rk_segment(act *a, double t_seg, mesh_error *err)
 	for (int j = 0; j < a->m->nj; j++)
 		if (k->mode[j] == REFUSED)
 			arm(a, j);
+	if (held_sync(a) != MESH_OK)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	memcpy(k->r0, a->m->r, (size_t)k->n2 * sizeof *k->r0);
 	double c = a->t * k->ncell;
 	k->kcell = (long)floor(c);
@@ -856,7 +1127,7 @@ static int rk_segment(act *a, double t_seg, mesh_error *err)
 	/* a junction below its threshold at a start (a refused one, armed
 	 * again; one shorter than the threshold in the mesh) is T1'd now, as
 	 * at an event */
-	if (a->o.t1_length > 0 && t1s(a, err) < 0)
+	if (a->o.t1_length > 0 && events_at(a, err) < 0)
 		return MESH_ENOMEM;
 	if (!start(a))
 		goto nonfinite;
@@ -917,7 +1188,7 @@ static int rk_segment(act *a, double t_seg, mesh_error *err)
 				return MESH_OK;
 			}
 			int quit = a->obs && a->obs(a, a->obs_data);
-			if (t1s(a, err) < 0)
+			if (events_at(a, err) < 0)
 				return MESH_ENOMEM;
 			if (tev == tend && k->g && tev < t_seg) {
 				k->kcell++;
@@ -944,6 +1215,9 @@ static int rk_segment(act *a, double t_seg, mesh_error *err)
 		sw = k->l0;
 		k->l0 = k->l1;
 		k->l1 = sw;
+		sw = k->p0;
+		k->p0 = k->p1;
+		k->p1 = sw;
 		for (int j = 0; j < a->m->nj; j++)
 			k->tstart[j] = t1;
 		k->have_step = 0;
