@@ -2,9 +2,11 @@
 #include <getopt.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "cli.h"
 #include "energy.h"
+#include "hold.h"
 #include "measure.h"
 
 static const char usage[] =
@@ -32,7 +34,11 @@ static const char help[] =
 	"sides area perimeter shape cx cy (shape = P/sqrt(A), c the centroid).\n"
 	"--junctions: frame t j a b c1 c2 length tension dg (tension = 2(P1-p0)\n"
 	"+ 2(P2-p0) + dg, dg the active tension).  --vertices: frame t v x y fx fy\n"
-	"(f = -grad W, the force on the vertex; max_force is its largest norm).\n";
+	"(f = -grad W, the force on the vertex; max_force is its largest norm).\n"
+	"\n"
+	"Held four-fold vertices (tis-active --t1-rule hold): counted on a line\n"
+	"'held N'; a held junction (length 0) is no side of its two cells, no\n"
+	"junction of the lengths, and its two vertices one body of the forces.\n";
 
 enum { OUT_KEYS, OUT_CHECK, OUT_TSV, OUT_CELLS, OUT_JUNCTIONS, OUT_VERTICES };
 
@@ -87,6 +93,48 @@ static struct opts parse(int argc, char **argv)
 	return o;
 }
 
+/* The statistics of a mesh with held four-fold vertices as its polygons
+ * have them: the sides without the held junctions (which f6 counts), the
+ * lengths without them, each held pair one body of the forces (hold.h). */
+static void held_stats(const mesh *m, const model *p, mesh_stats *s, int *sides)
+{
+	if (m->nheld == 0)
+		return;
+	double *g = malloc(2 * (size_t)m->nv * sizeof *g);
+	int *hj = malloc((size_t)m->nheld * sizeof *hj);
+	unsigned char *held = calloc((size_t)m->nj, 1);
+	energy_ws *w = energy_ws_alloc(m);
+	if (!g || !hj || !held || !w || mesh_held_sides(m, sides) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (mesh_held_junctions(m, hj) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
+	for (int i = 0; i < m->nheld; i++)
+		held[hj[i]] = 1;
+	memset(s->hist, 0, sizeof s->hist);
+	int n6 = 0;
+	for (int k = 0; k < m->nc; k++) {
+		s->hist[sides[k] < TIS_NSIDES ? sides[k] : TIS_NSIDES - 1]++;
+		n6 += sides[k] == 6;
+	}
+	s->f6 = (double)n6 / m->nc;
+	double lsum = 0;
+	s->lmin = INFINITY;
+	for (int j = 0; j < m->nj; j++)
+		if (!held[j]) {
+			double l = junction_length(m, m->r, j);
+			lsum += l;
+			s->lmin = l < s->lmin ? l : s->lmin;
+		}
+	s->lmean = lsum / (m->nj - m->nheld);
+	mesh_energy(m, m->r, p, g, w);
+	hold_grad(m, p, m->r, NULL, hj, m->nheld, g);
+	s->fmax = grad_max_norm(m->nv, g);
+	energy_ws_free(w);
+	free(g);
+	free(hj);
+	free(held);
+}
+
 static void print_keys(long frame, const mesh *m, const model *p, const mesh_stats *s)
 {
 	if (frame > 0)
@@ -104,6 +152,8 @@ static void print_keys(long frame, const mesh *m, const model *p, const mesh_sta
 	printf("min_length %.6g\nmean_length %.6g\nmax_length %.6g\n", s->lmin, s->lmean, s->lmax);
 	printf("mean_shape %.6f\narea_sum %.12g\narea_error %.3g\n", s->shape_mean,
 	       s->area_sum, s->area_relerr);
+	if (m->nheld > 0)
+		printf("held %d\n", m->nheld);
 }
 
 static const char *columns[] = {
@@ -114,7 +164,8 @@ static const char *columns[] = {
 	[OUT_VERTICES] = "frame\tt\tv\tx\ty\tfx\tfy",
 };
 
-static void print_rows(const struct opts *o, long frame, const mesh *m, const model *p)
+static void print_rows(const struct opts *o, long frame, const mesh *m, const model *p,
+                       const int *sides)
 {
 	double t = NAN;
 	mesh_time(m, &t);
@@ -122,6 +173,7 @@ static void print_rows(const struct opts *o, long frame, const mesh *m, const mo
 		mesh_stats s;
 		if (mesh_stats_compute(m, p, &s) != MESH_OK)
 			cli_die(EXIT_INPUT, "out of memory");
+		held_stats(m, p, &s, (int *)sides);
 		printf("%ld\t%d\t%d\t%d\t%.6f\t%.12g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6f\t%.3g"
 		       "\t%.10g\t%.10g\t%.10g\t%.17g\t%.17g\n",
 		       frame, s.nv, s.nc, s.nj, s.f6, s.energy, s.fmax, s.lmin, s.lmean,
@@ -130,6 +182,8 @@ static void print_rows(const struct opts *o, long frame, const mesh *m, const mo
 		for (int k = 0; k < m->nc; k++) {
 			cell_props c;
 			cell_props_get(m, k, &c);
+			if (m->nheld > 0)
+				c.sides = sides[k];
 			printf("%ld\t%.10g\t%d\t%d\t%.12g\t%.12g\t%.12g\t%.12g\t%.12g\n", frame, t,
 			       k, c.sides, c.area, c.perimeter, c.shape, c.cx, c.cy);
 		}
@@ -140,6 +194,12 @@ static void print_rows(const struct opts *o, long frame, const mesh *m, const mo
 		if (w == NULL || g == NULL)
 			cli_die(EXIT_INPUT, "out of memory");
 		mesh_energy(m, m->r, p, g, w);
+		/* each held pair one body, as max_force has it */
+		int *hj = malloc(((size_t)m->nheld + 1) * sizeof *hj);
+		if (hj == NULL || mesh_held_junctions(m, hj) != MESH_OK)
+			cli_die(EXIT_INPUT, "out of memory");
+		hold_grad(m, p, m->r, NULL, hj, m->nheld, g);
+		free(hj);
 		for (int v = 0; v < m->nv; v++)
 			printf("%ld\t%.10g\t%d\t%.17g\t%.17g\t%.12g\t%.12g\n", frame, t, v, m->r[2 * v],
 			       m->r[2 * v + 1], -g[2 * v] + 0.0, -g[2 * v + 1] + 0.0);
@@ -169,18 +229,23 @@ int main(int argc, char **argv)
 	mesh *m;
 	while (cli_read_mesh(f, o.path, &line, &m)) {
 		model p = cli_model(m, &o.mo);
+		int *sides = malloc((size_t)m->nc * sizeof *sides);
+		if (sides == NULL || (m->nheld > 0 && mesh_held_sides(m, sides) != MESH_OK))
+			cli_die(EXIT_INPUT, "out of memory");
 		if (o.out == OUT_KEYS) {
 			mesh_stats s;
 			if (mesh_stats_compute(m, &p, &s) != MESH_OK)
 				cli_die(EXIT_INPUT, "out of memory");
+			held_stats(m, &p, &s, sides);
 			print_keys(frame, m, &p, &s);
 		} else if (o.out != OUT_CHECK) {
 			/* the header waits for a valid mesh: its history is the
 			 * table's provenance */
 			if (frame == 0)
 				cli_table_header(stdout, m, columns[o.out]);
-			print_rows(&o, frame, m, &p);
+			print_rows(&o, frame, m, &p, sides);
 		}
+		free(sides);
 		mesh_free(m);
 		frame++;
 	}

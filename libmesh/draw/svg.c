@@ -39,7 +39,14 @@ static void put_xml_text(FILE *f, const char *s)
 	}
 }
 
-static void draw_cells(const canvas *c, const mesh *m, double *poly)
+/* A cell's sides as its polygon has them (mesh.h: a held junction is no
+ * side): what its colour says. */
+static int sides_of(const mesh *m, const int *held_sides, int k)
+{
+	return held_sides ? held_sides[k] : m->coff[k + 1] - m->coff[k];
+}
+
+static void draw_cells(const canvas *c, const mesh *m, double *poly, const int *hs)
 {
 	double sw = fmin(fmax(0.02 * c->s, 0.5), 3.0);
 	fprintf(c->f, "<g stroke=\"#333333\" stroke-width=\"%.2f\" stroke-linejoin=\"round\">\n", sw);
@@ -50,7 +57,7 @@ static void draw_cells(const canvas *c, const mesh *m, double *poly)
 		int ilo, ihi, jlo, jhi;
 		draw_image_range(bb[0], bb[1], m->lx, &ilo, &ihi);
 		draw_image_range(bb[2], bb[3], m->ly, &jlo, &jhi);
-		const char *fill = draw_bin_fill[draw_side_bin(n)];
+		const char *fill = draw_bin_fill[draw_side_bin(sides_of(m, hs, k))];
 		for (int i = ilo; i <= ihi; i++)
 			for (int j = jlo; j <= jhi; j++) {
 				double dx = i * m->lx, dy = j * m->ly;
@@ -122,11 +129,32 @@ static int legend_cols(double width)
 	return n < 1 ? 1 : n > DRAW_NBIN ? DRAW_NBIN : n;
 }
 
-static void draw_legend(const canvas *c, const mesh *m, double top, double width)
+/* The held four-fold vertices as black dots, with their periodic images
+ * near the box's edges. */
+static void draw_held(const canvas *c, const mesh *m)
+{
+	double rad = fmin(fmax(0.06 * c->s, 1.5), 6.0), e = rad / c->s;
+	fputs("<g class=\"held\" fill=\"#000000\">\n", c->f);
+	for (int i = 0; i < m->nheld; i++) {
+		int v = m->held[2 * i];
+		double x = m->r[2 * v] - m->lx * floor(m->r[2 * v] / m->lx);
+		double y = m->r[2 * v + 1] - m->ly * floor(m->r[2 * v + 1] / m->ly);
+		int ilo, ihi, jlo, jhi;
+		draw_image_range(x - e, x + e, m->lx, &ilo, &ihi);
+		draw_image_range(y - e, y + e, m->ly, &jlo, &jhi);
+		for (int a = ilo; a <= ihi; a++)
+			for (int b = jlo; b <= jhi; b++)
+				fprintf(c->f, "<circle cx=\"%.2f\" cy=\"%.2f\" r=\"%.2f\"/>\n",
+				        px(c, x + a * m->lx), py(c, y + b * m->ly), rad);
+	}
+	fputs("</g>\n", c->f);
+}
+
+static void draw_legend(const canvas *c, const mesh *m, double top, double width, const int *hs)
 {
 	int count[DRAW_NBIN] = { 0 };
 	for (int k = 0; k < m->nc; k++)
-		count[draw_side_bin(m->coff[k + 1] - m->coff[k])]++;
+		count[draw_side_bin(sides_of(m, hs, k))]++;
 	fprintf(c->f, "<g class=\"legend\" font-family=\"sans-serif\" font-size=\"12\" "
 		"dominant-baseline=\"central\">\n");
 	fprintf(c->f, "<text x=\"%.2f\" y=\"%.2f\">sides</text>\n", c->ox, top + 8);
@@ -159,8 +187,12 @@ int svg_write(FILE *f, const mesh *m, const svg_opts *o, mesh_error *err)
 	double tw = fmax(w, legend_w) + 2 * margin, th = h + legend_h + 2 * margin;
 	int longest = draw_longest_cell(m);
 	double *poly = malloc(2 * (size_t)longest * sizeof *poly);
-	if (poly == NULL)
+	int *hs = m->nheld ? malloc((size_t)m->nc * sizeof *hs) : NULL;
+	if (poly == NULL || (m->nheld && (hs == NULL || mesh_held_sides(m, hs) != MESH_OK))) {
+		free(poly);
+		free(hs);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
 
 	fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
 	fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" "
@@ -180,17 +212,20 @@ int svg_write(FILE *f, const mesh *m, const svg_opts *o, mesh_error *err)
 		"width=\"%.2f\" height=\"%.2f\"/></clipPath></defs>\n", c.ox, c.oy, w, h);
 	fputs("<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n", f);
 	fputs("<g clip-path=\"url(#box)\">\n", f);
-	draw_cells(&c, m, poly);
+	draw_cells(&c, m, poly, hs);
 	if (j >= 0)
 		draw_junction(&c, m, j);
+	if (m->nheld)
+		draw_held(&c, m);
 	fputs("</g>\n", f);
 	fprintf(f, "<rect class=\"box\" x=\"%.2f\" y=\"%.2f\" width=\"%.2f\" height=\"%.2f\" "
 		"fill=\"none\" stroke=\"#000000\" stroke-width=\"1.5\"/>\n", c.ox, c.oy, w, h);
 	if (o->labels)
 		draw_labels(&c, m);
-	draw_legend(&c, m, c.oy + h + 8, w);
+	draw_legend(&c, m, c.oy + h + 8, w, hs);
 	fputs("</svg>\n", f);
 	free(poly);
+	free(hs);
 	if (ferror(f))
 		return mesh_error_set(err, 0, MESH_EIO, "write error");
 	return MESH_OK;

@@ -103,6 +103,8 @@ int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t)
 	double *perim = malloc(((size_t)nc + 1) * sizeof *perim);
 	int *conn = malloc(((size_t)ncorner + 2 * (size_t)nj + 1) * sizeof *conn);
 	int st = points_init(&pt, m->nv);
+	if (st == MESH_OK && sides && m->nheld && mesh_held_sides(m, sides) != MESH_OK)
+		st = MESH_ENOMEM;
 	if (buf == NULL || sides == NULL || perim == NULL || conn == NULL || st != MESH_OK) {
 		st = MESH_ENOMEM;
 		goto out;
@@ -132,7 +134,9 @@ int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t)
 		area[k] = c.area;
 		per[k] = c.perimeter;
 		shape[k] = c.shape;
-		sides[k] = c.sides;
+		/* as a polygon (a held junction is no side, mesh.h) */
+		if (m->nheld == 0)
+			sides[k] = c.sides;
 		for (int i = m->coff[k]; i < m->coff[k + 1]; i++) {
 			int id = point_id(&pt, m->cv[i], image_index(m->cimg[2 * i], m->lx),
 			                  image_index(m->cimg[2 * i + 1], m->ly));
@@ -178,6 +182,14 @@ int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t)
 	for (int i = 0; i < np; i++)
 		fprintf(f, "%d%c", i < m->nv ? i : pt.vert[i - m->nv], i % 12 == 11 ? '\n' : ' ');
 	array_end(f);
+	if (m->nheld) {
+		/* 1 at the vertices of held four-fold vertices */
+		array_begin(f, "Int32", "held");
+		for (int i = 0; i < np; i++)
+			fprintf(f, "%d%c", mesh_held_of(m, i < m->nv ? i : pt.vert[i - m->nv]) >= 0,
+			        i % 12 == 11 ? '\n' : ' ');
+		array_end(f);
+	}
 	fputs("</PointData>\n<CellData Scalars=\"sides\">\n", f);
 	array_begin(f, "Int32", "id");
 	for (int j = 0; j < nj; j++)

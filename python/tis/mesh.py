@@ -151,7 +151,9 @@ class Mesh:
     params (dict), history (list of str), state (dict, a stopped run's
     state lines), and per junction the active tension dg (tensions);
     comments, the '#' lines that came before it in a stream (a frame's
-    "# tis-active frame t T"), written again before it.
+    "# tis-active frame t T"), written again before it; held, the held
+    four-fold vertices of tis-active --t1-rule hold as vertex pairs (a, b)
+    of junctions of length 0 (check_held says what they must be).
 
     Mesh(box, vertices, cells, ...) checks the tissue as the tools' reader
     does and raises MeshError if it is not valid; cells is a list of vertex
@@ -175,6 +177,7 @@ class Mesh:
         self.history = list(history or [])
         self.state = dict(state or {})
         self.comments = []
+        self.held = []
         lx, ly = self.box
         if not (lx > 0 and ly > 0 and math.isfinite(lx) and math.isfinite(ly)):
             raise MeshError("box must have positive finite sides", 0, _name)
@@ -220,6 +223,54 @@ class Mesh:
 
     def sides(self):
         return np.diff(self.cell_offsets)
+
+    def polygon_sides(self):
+        """The cells' sides as polygons: a held junction (length 0) is no
+        side (what tis-info and tis-active's f6 count)."""
+        n = self.sides().copy()
+        for a, b in self.held:
+            j = self.junction(a, b)
+            if j >= 0:
+                n[self._jc[j]] -= 1
+        return n
+
+    def check_held(self, lines=None, name=None):
+        """Raise MeshError unless every held pair is a junction whose two
+        vertices are at one point (within 1e-9), both three-fold and in no
+        other held pair, with no tension, four distinct cells around it and
+        at least four corners in each of the two it separates (mesh.h)."""
+        deg = np.bincount(self._jv.ravel(), minlength=self.nv)
+        seen = set()
+        lengths = self.junction_lengths() if self.held else None
+        for i, (a, b) in enumerate(self.held):
+            L = lines[i] if lines else 0
+            def bad(msg):
+                raise MeshError("held %d-%d%s" % (a, b, msg), L, name)
+            j = self.junction(a, b) if a != b else -1
+            if j < 0:
+                bad(" is not a junction of the mesh")
+            if a in seen or b in seen:
+                bad(": vertex %d is in another held pair" % (a if a in seen else b))
+            seen.update((a, b))
+            if not lengths[j] <= 1e-9:
+                bad(": its vertices are %.3g apart, not at one point (1e-09)" % lengths[j])
+            if self.tensions[j] != 0:
+                bad(" has a tension (%g): a held junction has none" % self.tensions[j])
+            if deg[a] != 3 or deg[b] != 3:
+                v = a if deg[a] != 3 else b
+                bad(": vertex %d is %d-fold, not three-fold" % (v, deg[v]))
+            cl, cr = self._jc[j]
+            third = []
+            for v in (a, b):
+                ks = [k for k in np.flatnonzero((self._jv == v).any(axis=1)) if k != j]
+                c = [x for k in ks for x in self._jc[k] if x not in (cl, cr)]
+                third.append(c[0] if c else -1)
+            four = {cl, cr, third[0], third[1]}
+            if -1 in four or len(four) != 4:
+                bad(": the four cells around it are not distinct")
+            for c in (cl, cr):
+                if self.sides()[c] < 4:
+                    bad(": cell %d would have %d sides" % (c, self.sides()[c] - 1))
 
     def junction(self, a, b):
         """The number of the junction joining vertices a and b (either
@@ -762,7 +813,7 @@ def _read_one(rd):
     for k in range(nc):
         kind, tok = need("fewer cell lines than 'cells' says")
         L = rd.line
-        if tok[0] in ("end", "junctions"):
+        if tok[0] in ("end", "junctions", "held"):
             raise err("'%s' after %d cells, but 'cells' says %d" % (tok[0], k, nc), L)
         ns = _integer(tok[0], 0, 2147483647)
         if ns is None:
@@ -785,7 +836,7 @@ def _read_one(rd):
         nk += ns
         cline.append(L)
 
-    kind, tok = need("expected 'junctions' or 'end'")
+    kind, tok = need("expected 'junctions', 'held' or 'end'")
     L = rd.line
     jl = []
     if tok[0] == "junctions":
@@ -803,6 +854,23 @@ def _read_one(rd):
                 raise err("expected 'A B DGAMMA' with vertex ids in 0..%d and a finite tension"
                           % (nv - 1), L)
             jl.append((a, b, dg, L))
+        kind, tok = need("expected 'held' or 'end'")
+        L = rd.line
+    held, hline = [], []
+    if tok[0] == "held":
+        nh = _integer(tok[1], 0, nv // 2) if _ntok(kind, tok) == 2 else None
+        if nh is None:
+            raise err("expected 'held NH' with a count in 0..%d" % (nv // 2), L)
+        for i in range(nh):
+            kind, tok = need("fewer held lines than 'held' says")
+            L = rd.line
+            ok = _ntok(kind, tok) == 2 and kind == "plain"
+            a = _integer(tok[0], 0, nv - 1) if ok else None
+            b = _integer(tok[1], 0, nv - 1) if a is not None else None
+            if b is None:
+                raise err("expected 'A B', a held junction's vertex ids in 0..%d" % (nv - 1), L)
+            held.append((a, b))
+            hline.append(L)
         kind, tok = need("expected 'end'")
         L = rd.line
     if tok[0] != "end" or _ntok(kind, tok) != 1:
@@ -829,6 +897,8 @@ def _read_one(rd):
     # a junction's number and may turn it round), and writes them so:
     # kept, a mesh read and written gives its own bytes back
     m._jlines = [(m.junction(a, b), a, b) for a, b, _, _ in jl]
+    m.held = held
+    m.check_held(hline, name)
     return m
 
 
@@ -931,6 +1001,9 @@ def _format(m):
                 todo.discard(j)
         for j in sorted(todo):
             out.append("%d %d %s\n" % (m._jv[j, 0], m._jv[j, 1], _num(m.tensions[j])))
+    if m.held:
+        out.append("held %d\n" % len(m.held))
+        out.extend("%d %d\n" % (a, b) for a, b in m.held)
     out.append("end\n")
     return "".join(out)
 
