@@ -54,7 +54,7 @@ tis-active --index 0 $A --time 20 "$H" >"$T/b.mesh"
 ok "watching does not change the run (trace or not: same mesh)" sh -c "grep -v '^history' '$T/a.mesh' >'$T/h1'; grep -v '^history' '$T/b.mesh' >'$T/h2'; cmp -s '$T/h1' '$T/h2'"
 
 tis-active --index 0 $A --time 10 --every 5 "$H" >"$T/frames.mesh"
-ok "--every 5 to t 10: two frames and the final mesh" sh -c "[ \$(grep -c '^tismesh 1' '$T/frames.mesh') -eq 3 ] && grep -q '^# tis-active final t 10' '$T/frames.mesh'"
+ok "--every 5 to t 10: the start, two frames and the final mesh" sh -c "[ \$(grep -c '^tismesh 1' '$T/frames.mesh') -eq 4 ] && grep -q '^# tis-active final t 10' '$T/frames.mesh'"
 
 # the same seed gives the same bytes; another seed another state
 tis-active --index 0 $A --time 5 --scheme euler --sigma 0.05 --seed 4 "$H" >"$T/n1.mesh"

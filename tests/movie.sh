@@ -11,7 +11,7 @@ plan 26
 tis-hex 4 4 | tis-relax --quiet --p0 3.7224194 >"$T/phex.mesh"
 tis-active --index 0 --rate 0.19 --gamma0 0.11 --time 40 --every 4 "$T/phex.mesh" >"$T/frames.mesh"
 nf=$(grep -c '^tismesh 1' "$T/frames.mesh")
-ok "the run wrote its frames ($nf)" test "$nf" -eq 11
+ok "the run wrote its frames: the start, ten and the final ($nf)" test "$nf" -eq 12
 
 # a PPM stream of equal frames: its header's bytes, a frame's pixel bytes
 # and width; frames: how many; pixels: of one colour ("R G B") in frame K,

@@ -152,6 +152,26 @@ static void row(struct job *u, double t)
 		u->io->row(u->io->data, &w);
 }
 
+/* The frame at time t of the last step: the mesh with the state there. */
+static void frame_at(struct job *u, double t)
+{
+	if (u->io->frame == NULL || u->bad)
+		return;
+	if (t == act_time(u->a)) {
+		u->io->frame(u->io->data, u->m, t);
+		return;
+	}
+	mesh *f = mesh_copy(u->m);
+	if (f == NULL || mesh_tension_alloc(f) != MESH_OK || act_sample(u->a, t, f->r, f->dg) != MESH_OK) {
+		if (!u->bad)
+			u->bad_t = t;
+		u->bad = 1;
+	} else {
+		u->io->frame(u->io->data, f, t);
+	}
+	mesh_free(f);
+}
+
 /* After every step: the rows due (bdf's own interpolant between its step
  * ends, euler's step itself), the frame due, the caller's step. */
 static int observe(act *a, void *data)
@@ -168,11 +188,18 @@ static int observe(act *a, void *data)
 			while (u->next_row <= t)
 				u->next_row = ++u->krow * dt;
 	}
-	if (u->jo->every > 0 && t >= u->next_frame) {
-		if (u->io->frame)
-			u->io->frame(u->io->data, u->m, t);
-		while (u->next_frame <= t)
+	/* frames: at the multiples themselves from the interpolant of the
+	 * schemes that have one, else at the first step at or after each */
+	while (u->jo->every > 0 && u->next_frame <= t) {
+		int interp = act_scheme_dense(u->o->scheme) && u->next_frame >= act_time_prev(a);
+		if (interp) {
+			frame_at(u, u->next_frame);
 			u->next_frame = ++u->kframe * u->jo->every;
+		} else {
+			frame_at(u, t);
+			while (u->next_frame <= t)
+				u->next_frame = ++u->kframe * u->jo->every;
+		}
 	}
 	if (u->io->step)
 		u->io->step(u->io->data, a);
@@ -266,6 +293,10 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 	u.krow = (long)floor(t0 / jo->trace_every) + 1;
 	u.next_row = u.krow * jo->trace_every;
 	if (jo->every > 0) {
+		/* the start state, as the first row (a continued run's start is
+		 * its stopped run's last frame) */
+		if (!continued)
+			frame_at(&u, t0);
 		u.kframe = (long)floor(t0 / jo->every) + 1;
 		u.next_frame = u.kframe * jo->every;
 	}
