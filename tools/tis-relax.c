@@ -145,8 +145,10 @@ int main(int argc, char **argv)
 	while ((nmesh == 0 || !cli_stop) && cli_read_mesh(f, o.path, &line, &m)) {
 		nmesh++;
 		mesh_error he;
-		if (mesh_held_none(m, "tis-relax does not take them", &he) != MESH_OK)
+		if (mesh_held_none(m, "tis-relax does not take them", &he) != MESH_OK) {
+			mesh_free(m);
 			cli_die(EXIT_INPUT, "%s: %s", cli_input_name(o.path), he.msg);
+		}
 		cli_model_set(m, &o.mp);
 		/* the relaxed mesh is a new state: a stopped run's state lines
 		 * and mark no longer describe it, and kept they would make the
