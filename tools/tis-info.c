@@ -93,48 +93,6 @@ static struct opts parse(int argc, char **argv)
 	return o;
 }
 
-/* The statistics of a mesh with held four-fold vertices as its polygons
- * have them: the sides without the held junctions (which f6 counts), the
- * lengths without them, each held pair one body of the forces (hold.h). */
-static void held_stats(const mesh *m, const model *p, mesh_stats *s, int *sides)
-{
-	if (m->nheld == 0)
-		return;
-	double *g = malloc(2 * (size_t)m->nv * sizeof *g);
-	int *hj = malloc((size_t)m->nheld * sizeof *hj);
-	unsigned char *held = calloc((size_t)m->nj, 1);
-	energy_ws *w = energy_ws_alloc(m);
-	if (!g || !hj || !held || !w || mesh_held_sides(m, sides) != MESH_OK)
-		cli_die(EXIT_INPUT, "out of memory");
-	if (mesh_held_junctions(m, hj) != MESH_OK)
-		cli_die(EXIT_INPUT, "out of memory");
-	for (int i = 0; i < m->nheld; i++)
-		held[hj[i]] = 1;
-	memset(s->hist, 0, sizeof s->hist);
-	int n6 = 0;
-	for (int k = 0; k < m->nc; k++) {
-		s->hist[sides[k] < TIS_NSIDES ? sides[k] : TIS_NSIDES - 1]++;
-		n6 += sides[k] == 6;
-	}
-	s->f6 = (double)n6 / m->nc;
-	double lsum = 0;
-	s->lmin = INFINITY;
-	for (int j = 0; j < m->nj; j++)
-		if (!held[j]) {
-			double l = junction_length(m, m->r, j);
-			lsum += l;
-			s->lmin = l < s->lmin ? l : s->lmin;
-		}
-	s->lmean = lsum / (m->nj - m->nheld);
-	mesh_energy(m, m->r, p, g, w);
-	hold_grad(m, p, m->r, NULL, hj, m->nheld, g);
-	s->fmax = grad_max_norm(m->nv, g);
-	energy_ws_free(w);
-	free(g);
-	free(hj);
-	free(held);
-}
-
 static void print_keys(long frame, const mesh *m, const model *p, const mesh_stats *s)
 {
 	if (frame > 0)
@@ -173,7 +131,8 @@ static void print_rows(const struct opts *o, long frame, const mesh *m, const mo
 		mesh_stats s;
 		if (mesh_stats_compute(m, p, &s) != MESH_OK)
 			cli_die(EXIT_INPUT, "out of memory");
-		held_stats(m, p, &s, (int *)sides);
+		if (hold_stats(m, p, &s, (int *)sides) != MESH_OK)
+			cli_die(EXIT_INPUT, "out of memory");
 		printf("%ld\t%d\t%d\t%d\t%.6f\t%.12g\t%.6g\t%.6g\t%.6g\t%.6g\t%.6f\t%.3g"
 		       "\t%.10g\t%.10g\t%.10g\t%.17g\t%.17g\n",
 		       frame, s.nv, s.nc, s.nj, s.f6, s.energy, s.fmax, s.lmin, s.lmean,
@@ -236,7 +195,8 @@ int main(int argc, char **argv)
 			mesh_stats s;
 			if (mesh_stats_compute(m, &p, &s) != MESH_OK)
 				cli_die(EXIT_INPUT, "out of memory");
-			held_stats(m, &p, &s, sides);
+			if (hold_stats(m, &p, &s, sides) != MESH_OK)
+				cli_die(EXIT_INPUT, "out of memory");
 			print_keys(frame, m, &p, &s);
 		} else if (o.out != OUT_CHECK) {
 			/* the header waits for a valid mesh: its history is the

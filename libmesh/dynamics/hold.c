@@ -3,6 +3,8 @@
 #include "hold.h"
 
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "geom.h"
 #include "topology.h"
@@ -183,4 +185,47 @@ int hold_resolve(mesh *m, int j, int which, const double dir[2], double lnew, in
 	if (m->dg)
 		m->dg[j] = 0;
 	return MESH_OK;
+}
+
+int hold_stats(const mesh *m, const model *p, mesh_stats *s, int *sides)
+{
+	if (m->nheld == 0)
+		return MESH_OK;
+	double *g = malloc(2 * (size_t)m->nv * sizeof *g);
+	int *hj = malloc((size_t)m->nheld * sizeof *hj);
+	unsigned char *held = calloc((size_t)m->nj, 1);
+	energy_ws *w = energy_ws_alloc(m);
+	int st = MESH_ENOMEM;
+	if (!g || !hj || !held || !w)
+		goto out;
+	if ((st = mesh_held_sides(m, sides)) != MESH_OK || (st = mesh_held_junctions(m, hj)) != MESH_OK)
+		goto out;
+	for (int i = 0; i < m->nheld; i++)
+		held[hj[i]] = 1;
+	memset(s->hist, 0, sizeof s->hist);
+	int n6 = 0;
+	for (int k = 0; k < m->nc; k++) {
+		s->hist[sides[k] < TIS_NSIDES ? sides[k] : TIS_NSIDES - 1]++;
+		n6 += sides[k] == 6;
+	}
+	s->f6 = (double)n6 / m->nc;
+	double lsum = 0;
+	s->lmin = INFINITY;
+	for (int j = 0; j < m->nj; j++)
+		if (!held[j]) {
+			double l = junction_length(m, m->r, j);
+			lsum += l;
+			s->lmin = l < s->lmin ? l : s->lmin;
+		}
+	s->lmean = lsum / (m->nj - m->nheld);
+	mesh_energy(m, m->r, p, g, w);
+	hold_grad(m, p, m->r, NULL, hj, m->nheld, g);
+	s->fmax = grad_max_norm(m->nv, g);
+	st = MESH_OK;
+out:
+	energy_ws_free(w);
+	free(g);
+	free(hj);
+	free(held);
+	return st;
 }

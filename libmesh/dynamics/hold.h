@@ -37,6 +37,7 @@
 #define TIS_HOLD_H
 
 #include "energy.h"
+#include "measure.h"
 #include "mesh.h"
 
 /* The forces at held junction j (vertices at one point) at coordinates r,
@@ -81,5 +82,12 @@ int hold_collapse(mesh *m, int j, mesh_error *err);
  * unchanged, when a cell's area would not be positive; MESH_ENOMEM. */
 int hold_resolve(mesh *m, int j, int which, const double dir[2], double lnew, int touched[5],
                  mesh_error *err);
+
+/* The statistics of a mesh with held four-fold vertices as its polygons
+ * have them: sides[] (m->nc) and the histogram and f6 without the held
+ * junctions, the lengths without them, each held pair one body of the
+ * forces (fmax); s's other fields as mesh_stats_compute left them.  No-op
+ * without held vertices.  MESH_ENOMEM. */
+int hold_stats(const mesh *m, const model *p, mesh_stats *s, int *sides);
 
 #endif
