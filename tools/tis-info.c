@@ -31,7 +31,9 @@ static const char help[] =
 	"or a 't' note in the last history line), nan when the mesh has none.\n"
 	"--tsv: frame nv nc nj f6 energy max_force min_length mean_length\n"
 	"max_length mean_shape area_error t p0 ka lx ly.  --cells: frame t cell\n"
-	"sides area perimeter shape cx cy (shape = P/sqrt(A), c the centroid).\n"
+	"sides area perimeter shape cx cy sxx syy sxy pressure (shape = P/sqrt(A),\n"
+	"c the centroid, s the cell's stress from its pressure and its junctions'\n"
+	"tensions, pressure = -(sxx + syy)/2; tis-info(1)).\n"
 	"--junctions: frame t j a b c1 c2 length tension dg (tension = 2(P1-p0)\n"
 	"+ 2(P2-p0) + dg, dg the active tension).  --vertices: frame t v x y fx fy\n"
 	"(f = -grad W, the force on the vertex; max_force is its largest norm).\n"
@@ -117,7 +119,8 @@ static void print_keys(long frame, const mesh *m, const model *p, const mesh_sta
 static const char *columns[] = {
 	[OUT_TSV] = "frame\tnv\tnc\tnj\tf6\tenergy\tmax_force\tmin_length\tmean_length"
 	            "\tmax_length\tmean_shape\tarea_error\tt\tp0\tka\tlx\tly",
-	[OUT_CELLS] = "frame\tt\tcell\tsides\tarea\tperimeter\tshape\tcx\tcy",
+	[OUT_CELLS] = "frame\tt\tcell\tsides\tarea\tperimeter\tshape\tcx\tcy\tsxx\tsyy\tsxy"
+	              "\tpressure",
 	[OUT_JUNCTIONS] = "frame\tt\tj\ta\tb\tc1\tc2\tlength\ttension\tdg",
 	[OUT_VERTICES] = "frame\tt\tv\tx\ty\tfx\tfy",
 };
@@ -137,14 +140,23 @@ static void print_rows(const struct opts *o, long frame, const mesh *m, const mo
 		       "\t%.10g\t%.10g\t%.10g\t%.17g\t%.17g\n",
 		       frame, s.nv, s.nc, s.nj, s.f6, s.energy, s.fmax, s.lmin, s.lmean,
 		       s.lmax, s.shape_mean, s.area_relerr, t, p->p0, p->ka, m->lx, m->ly);
-	} else if (o->out == OUT_CELLS) {
+		return;
+	}
+	double *perim = malloc(((size_t)m->nc + 1) * sizeof *perim);
+	if (perim == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	mesh_perimeters(m, perim);
+	if (o->out == OUT_CELLS) {
 		for (int k = 0; k < m->nc; k++) {
 			cell_props c;
+			double s[4];
 			cell_props_get(m, k, &c);
 			if (m->nheld > 0)
 				c.sides = sides[k];
-			printf("%ld\t%.10g\t%d\t%d\t%.12g\t%.12g\t%.12g\t%.12g\t%.12g\n", frame, t,
-			       k, c.sides, c.area, c.perimeter, c.shape, c.cx, c.cy);
+			cell_stress(m, p, perim, k, s);
+			printf("%ld\t%.10g\t%d\t%d\t%.12g\t%.12g\t%.12g\t%.12g\t%.12g\t%.12g\t%.12g"
+			       "\t%.12g\t%.12g\n", frame, t, k, c.sides, c.area, c.perimeter, c.shape,
+			       c.cx, c.cy, s[0], s[1], s[2], s[3]);
 		}
 	} else if (o->out == OUT_VERTICES) {
 		/* the force on each vertex, -grad W, from the kernel itself */
@@ -165,18 +177,14 @@ static void print_rows(const struct opts *o, long frame, const mesh *m, const mo
 		energy_ws_free(w);
 		free(g);
 	} else {
-		double *perim = malloc(((size_t)m->nc + 1) * sizeof *perim);
-		if (perim == NULL)
-			cli_die(EXIT_INPUT, "out of memory");
-		mesh_perimeters(m, perim);
 		for (int j = 0; j < m->nj; j++) {
 			junction_props q;
 			junction_props_get(m, p, perim, j, &q);
 			printf("%ld\t%.10g\t%d\t%d\t%d\t%d\t%d\t%.12g\t%.12g\t%.12g\n", frame, t, j,
 			       q.a, q.b, q.c1, q.c2, q.length, q.tension, q.dg);
 		}
-		free(perim);
 	}
+	free(perim);
 }
 
 int main(int argc, char **argv)

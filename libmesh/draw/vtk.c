@@ -98,7 +98,7 @@ int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t)
 {
 	int nc = m->nc, nj = m->nj, ncorner = m->coff[nc];
 	points pt;
-	double *buf = malloc((3 * (size_t)nj + 3 * (size_t)nc + 1) * sizeof *buf);
+	double *buf = malloc((3 * (size_t)nj + 7 * (size_t)nc + 1) * sizeof *buf);
 	int *sides = malloc(((size_t)nc + 1) * sizeof *sides);
 	double *perim = malloc(((size_t)nc + 1) * sizeof *perim);
 	int *conn = malloc(((size_t)ncorner + 2 * (size_t)nj + 1) * sizeof *conn);
@@ -111,6 +111,7 @@ int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t)
 	}
 	double *len = buf, *ten = buf + nj, *dg = buf + 2 * (size_t)nj;
 	double *area = buf + 3 * (size_t)nj, *per = area + nc, *shape = per + nc;
+	double *sxx = shape + nc, *syy = sxx + nc, *sxy = syy + nc, *pres = sxy + nc;
 
 	/* connectivity: junction lines, then cell polygons */
 	mesh_perimeters(m, perim);
@@ -137,6 +138,12 @@ int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t)
 		/* as a polygon (a held junction is no side, mesh.h) */
 		if (m->nheld == 0)
 			sides[k] = c.sides;
+		double sk[4];
+		cell_stress(m, p, perim, k, sk);
+		sxx[k] = sk[0];
+		syy[k] = sk[1];
+		sxy[k] = sk[2];
+		pres[k] = sk[3];
 		for (int i = m->coff[k]; i < m->coff[k + 1]; i++) {
 			int id = point_id(&pt, m->cv[i], image_index(m->cimg[2 * i], m->lx),
 			                  image_index(m->cimg[2 * i + 1], m->ly));
@@ -209,6 +216,10 @@ int vtk_write_vtp(FILE *f, const mesh *m, const model *p, const double *t)
 	cell_array(f, "length", len, nj, NULL, nc);
 	cell_array(f, "tension", ten, nj, NULL, nc);
 	cell_array(f, "dg", dg, nj, NULL, nc);
+	cell_array(f, "sxx", NULL, nj, sxx, nc);
+	cell_array(f, "syy", NULL, nj, syy, nc);
+	cell_array(f, "sxy", NULL, nj, sxy, nc);
+	cell_array(f, "pressure", NULL, nj, pres, nc);
 	fputs("</CellData>\n<Lines>\n", f);
 	array_begin(f, "Int64", "connectivity");
 	for (int j = 0; j < 2 * nj; j++)

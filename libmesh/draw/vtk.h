@@ -11,7 +11,8 @@
  * then the nc tissue cells (VTK polygons), VTK's order; cell arrays:
  * "id" (junction or cell number), "sides" (0 for a line), "area",
  * "perimeter", "shape" (P/sqrt(A)), and "length", "tension" (2 (P1 - p0)
- * + 2 (P2 - p0) + dg), "dg", each NaN where it does not apply.  Field
+ * + 2 (P2 - p0) + dg), "dg", the cell stress "sxx", "syy", "sxy" and
+ * "pressure" (cell_stress, measure.h), each NaN where it does not apply.  Field
  * data: "Box" (lx, ly), "p0", "ka" and, for a frame, "TimeValue", so that
  * a file is a mesh again (vtk_read_vtp).
  */

@@ -52,6 +52,29 @@ void junction_props_get(const mesh *m, const model *p, const double *perim, int 
 	q->tension = 2 * (perim[q->c1] - p->p0) + 2 * (perim[q->c2] - p->p0) + q->dg;
 }
 
+void cell_stress(const mesh *m, const model *p, const double *perim, int k, double s[4])
+{
+	int s0 = m->coff[k], ns = m->coff[k + 1] - s0;
+	double a = cell_area(m, m->r, k), xx = 0, yy = 0, xy = 0;
+	for (int i = 0; i < ns; i++) {
+		int j = m->cj[s0 + i];
+		double d[2];
+		double l = junction_vec(m, m->r, j, d);
+		int o = m->jc[2 * j] == k ? m->jc[2 * j + 1] : m->jc[2 * j];
+		double t = 2 * (perim[k] - p->p0) + 2 * (perim[o] - p->p0) + (m->dg ? m->dg[j] : 0);
+		/* T l t t^T = T d d^T / l */
+		double w = t / l;
+		xx += w * d[0] * d[0];
+		yy += w * d[1] * d[1];
+		xy += w * d[0] * d[1];
+	}
+	double pa = 2 * p->ka * (a - 1);   /* -Pi */
+	s[0] = pa + xx / (2 * a);
+	s[1] = pa + yy / (2 * a);
+	s[2] = xy / (2 * a);
+	s[3] = -(s[0] + s[1]) / 2;
+}
+
 /* A finite number at s followed by a delimiter: 1 and *v, else 0. */
 static int number_at(const char *s, double *v)
 {

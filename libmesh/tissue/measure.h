@@ -29,6 +29,20 @@ void cell_props_get(const mesh *m, int k, cell_props *c);
 void junction_props_get(const mesh *m, const model *p, const double *perim, int j,
                         junction_props *q);
 
+/* The stress of cell k, in the form standard in vertex models (Ishihara
+ * and Sugimura 2012, Yang et al. 2017): its pressure and its junctions'
+ * tensions,
+ *
+ *   s = -Pi I + (1/(2 A)) sum_sides T l t t^T,   Pi = -dW/dA = -2 ka (A - 1),
+ *
+ * T the junction's tension (junction_props: 2 (P1 - p0) + 2 (P2 - p0) +
+ * dg, half of it the cell's share), l its length, t its unit vector.
+ * s[0..3] = sxx, syy, sxy and the cell's pressure -(sxx + syy) / 2 (Pi
+ * less what its tensions pull).  The cells' stresses weighted by their
+ * areas sum to the box's area times the tissue stress, (1/A) d(W + sum dg
+ * l)/dF (elastic.h).  perim: every cell's perimeter (mesh_perimeters). */
+void cell_stress(const mesh *m, const model *p, const double *perim, int k, double s[4]);
+
 /* Every cell's perimeter into perim (nc values). */
 void mesh_perimeters(const mesh *m, double *perim);
 

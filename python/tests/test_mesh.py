@@ -98,16 +98,17 @@ def meshes_to_compare(work):
 
 
 def test_cells_as_tis_info(work):
-    """area, perimeter, shape, centroid: tis-info --cells's 12 digits."""
+    """area, perimeter, shape, centroid, stress: tis-info --cells's 12 digits."""
     for path in meshes_to_compare(work):
         want = rows(tool("tis-info", "--cells", path)[0])
         got = []
         for f, m in enumerate(tis.read_meshes(path)):
             a, p, s, c = m.areas(), m.perimeters(), m.shape_index(), m.centroids()
+            st = m.stresses()
             sides = m.sides()
             for k in range(m.nc):
                 got.append([str(f), str(k), str(sides[k]), g12(a[k]), g12(p[k]), g12(s[k]),
-                            g12(c[k, 0]), g12(c[k, 1])])
+                            g12(c[k, 0]), g12(c[k, 1])] + [g12(v) for v in st[k]])
         assert [[w[0]] + w[2:] for w in want] == got, path
 
 

@@ -377,6 +377,32 @@ class Mesh:
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(a > 0, self.perimeters() / np.sqrt(np.where(a > 0, a, 1)), np.nan)
 
+    def stresses(self, p0=None, ka=None):
+        """Each cell's stress and pressure (nc x 4: sxx syy sxy pressure) as
+        tis-info --cells gives them: -Pi I + (1/(2A)) sum_sides T l t t^T,
+        Pi = -2 ka (A - 1), T the junction's tension, pressure
+        -(sxx + syy)/2; p0 and ka the mesh's unless given."""
+        p0 = self.p0 if p0 is None else p0
+        ka = self.params.get("ka", DEFAULTS["ka"]) if ka is None else ka
+        jimg, _, _ = self._geometry()
+        r = self.vertices
+        a, b = self._jv[:, 0], self._jv[:, 1]
+        dx = r[b, 0] - r[a, 0] + jimg[:, 0]
+        dy = r[b, 1] - r[a, 1] + jimg[:, 1]
+        w = self.junctions(p0).tension / np.hypot(dx, dy)
+        # summed over each cell's corners in order, as libmesh does
+        xx, yy, xy = np.zeros(self.nc), np.zeros(self.nc), np.zeros(self.nc)
+        for t in range(self._cjpad.shape[1]):
+            on = self._cvalid[:, t]
+            j = self._cjpad[:, t]
+            xx = np.where(on, xx + w[j] * dx[j] * dx[j], xx)
+            yy = np.where(on, yy + w[j] * dy[j] * dy[j], yy)
+            xy = np.where(on, xy + w[j] * dx[j] * dy[j], xy)
+        area = self.areas()
+        pa = 2 * ka * (area - 1)
+        s = np.column_stack([pa + xx / (2 * area), pa + yy / (2 * area), xy / (2 * area)])
+        return np.column_stack([s, -(s[:, 0] + s[:, 1]) / 2])
+
     def centroids(self):
         """Centroids of the unwrapped polygons, wrapped into the box (nc x 2)."""
         return self._areas_centroids()[1]
@@ -405,9 +431,11 @@ class Mesh:
         per = self.perimeters()
         with np.errstate(invalid="ignore", divide="ignore"):
             shape = np.where(area > 0, per / np.sqrt(np.abs(area)), np.nan)
+        st = self.stresses()
         return pd.DataFrame({"cell": np.arange(self.nc), "sides": self.sides(), "area": area,
                              "perimeter": per, "shape_index": shape, "cx": cen[:, 0],
-                             "cy": cen[:, 1]})
+                             "cy": cen[:, 1], "sxx": st[:, 0], "syy": st[:, 1],
+                             "sxy": st[:, 2], "pressure": st[:, 3]})
 
     # -- the model: energy and forces --
     def energy(self, p0=None, ka=None):
