@@ -129,6 +129,11 @@ done:
 	return st;
 }
 
+int linresp_lmax(const spsym *h, double *lmax)
+{
+	return lanczos_max(h, lmax);
+}
+
 /* Factor A + shift I into f and return its count of negative pivots (or
  * -1 with *st set). */
 static int count_below(ldl *f, const spsym *a, double shift, linresp *lr, int *st)
@@ -294,16 +299,29 @@ static double dot(const double *a, const double *b, int n)
 	return s;
 }
 
-int linresp_a1(linresp *lr, const mesh *m, int j, linresp_result *res)
+/* |x|^2 of the pinned factor's whole solve x of b (nb entries). */
+static int pinned_x2(linresp *lr, int nb, const int *gi, const double *gv, linresp_result *res)
 {
-	if (j < 0 || j >= m->nj || 2 * m->nv != lr->n)
-		return MESH_EDOM;
-	double d[2];
-	double l = junction_vec(m, m->r, j, d);
-	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
-	double ex = d[0] / l, ey = d[1] / l;
-	int gi[4] = { 2 * a, 2 * a + 1, 2 * b, 2 * b + 1 };
-	double gv[4] = { -ex, -ey, ex, ey };
+	double *x = calloc((size_t)lr->n + 1, sizeof *x);
+	if (x == NULL)
+		return MESH_ENOMEM;
+	for (int i = 0; i < nb; i++)
+		x[gi[i]] += gv[i];
+	int st = ldl_solve(lr->fp, x, x);
+	if (st == MESH_OK) {
+		hessian_drop_translation(x, lr->nv);
+		res->x2 = dot(x, x, lr->n);
+	}
+	free(x);
+	return st;
+}
+
+/* b^T H^+ b for the nb entries (bi, bv) of b (scratch: the pinned path
+ * drops vertex 0's), whose floppy weight is judged against gnull_min
+ * times scale = |b|^2 / 2 (1 for a junction's g). */
+static int quad(linresp *lr, int nb, int *gi, double *gv, double scale, int want_x2,
+                linresp_result *res)
+{
 	*res = (linresp_result){ .sure = 1 };
 	const linresp_info *in = &lr->info;
 	double t = in->tol;
@@ -311,7 +329,7 @@ int linresp_a1(linresp *lr, const mesh *m, int j, linresp_result *res)
 	if (in->pinned) {
 		/* vertex 0's rows are dropped (its equations are implied) */
 		int k = 0;
-		for (int i = 0; i < 4; i++)
+		for (int i = 0; i < nb; i++)
 			if (gi[i] > 1) {
 				gi[k] = gi[i];
 				gv[k++] = gv[i];
@@ -319,14 +337,17 @@ int linresp_a1(linresp *lr, const mesh *m, int j, linresp_result *res)
 		double ghg = ldl_quad(lr->fp, k, gi, gv);
 		res->gHg = ghg;
 		res->a1 = -2.0 / ghg;
+		if (want_x2)
+			return pinned_x2(lr, k, gi, gv, res);
 		return MESH_OK;
 	}
 
-	double fp = ldl_quad(lr->fp, 4, gi, gv), fm = ldl_quad(lr->fm, 4, gi, gv);
+	double fp = ldl_quad(lr->fp, nb, gi, gv), fm = ldl_quad(lr->fm, nb, gi, gv);
 	double G = t * (fp - fm) / 2;
 	double zmax = 1 / (1 - 1 / (LR_GLO * LR_GLO));
 	int gap = in->nwindow == 0;
-	if (G > lr->gnull_min * zmax) {
+	double gmin = lr->gnull_min * scale;
+	if (G > gmin * zmax) {
 		res->a1 = 0;
 		res->gnull = G;
 		res->gHg = NAN;
@@ -338,7 +359,7 @@ int linresp_a1(linresp *lr, const mesh *m, int j, linresp_result *res)
 	int n = lr->n, k = in->ksolve;
 	double *x = lr->x, *xn = lr->xn;
 	memset(x, 0, (size_t)n * sizeof *x);
-	for (int i = 0; i < 4; i++)
+	for (int i = 0; i < nb; i++)
 		x[gi[i]] += gv[i];
 	double neum = fp, tp = 1, m2k = 0;   /* sum t^(i-1) m_i, t^(i-1) */
 	for (int i = 1; i <= k; i++) {
@@ -352,6 +373,8 @@ int linresp_a1(linresp *lr, const mesh *m, int j, linresp_result *res)
 			neum += tp * dot(x, xn, n);   /* m_{2i-1} = x_{i-1} . x_i */
 		}
 		m2k = dot(xn, xn, n);
+		if (i == 1)
+			res->x2 = m2k;
 		tp *= t;
 		neum += tp * m2k;                 /* m_{2i} */
 		double *s = x;
@@ -362,19 +385,62 @@ int linresp_a1(linresp *lr, const mesh *m, int j, linresp_result *res)
 	 * (1 +- 1/LR_GLO)^(-2k) of 1, the rest by at most (G_hi - 1)^(-2k) */
 	double gk = pow(t, 2 * k) * m2k;
 	double lo = pow(1 + 1 / LR_GLO, 2 * k), hi = pow(1 - 1 / LR_GLO, 2 * k);
-	double rest = 2 * pow(in->ghi - 1, -2 * k);
+	double rest = 2 * scale * pow(in->ghi - 1, -2 * k);
 	res->gnull = gk;
-	if (gk > lr->gnull_min) {
+	if (gk > gmin) {
 		res->a1 = 0;
 		res->gHg = NAN;
-		res->sure = gap && (gk - rest) * hi > lr->gnull_min;
+		res->sure = gap && (gk - rest) * hi > gmin;
 		return MESH_OK;
 	}
-	res->sure = gap && gk * lo <= lr->gnull_min;
+	res->sure = gap && gk * lo <= gmin;
 	/* each of the 2k terms counts a zero mode's weight about once, over t */
 	res->gHg = neum - 2 * k * gk / t;
 	res->a1 = -2.0 / res->gHg;
 	return MESH_OK;
+}
+
+int linresp_a1(linresp *lr, const mesh *m, int j, linresp_result *res)
+{
+	if (j < 0 || j >= m->nj || 2 * m->nv != lr->n)
+		return MESH_EDOM;
+	double d[2];
+	double l = junction_vec(m, m->r, j, d);
+	int a = m->jv[2 * j], b = m->jv[2 * j + 1];
+	double ex = d[0] / l, ey = d[1] / l;
+	int gi[4] = { 2 * a, 2 * a + 1, 2 * b, 2 * b + 1 };
+	double gv[4] = { -ex, -ey, ex, ey };
+	int st = quad(lr, 4, gi, gv, 1, 0, res);
+	res->x2 = 0;
+	return st;
+}
+
+int linresp_quad(linresp *lr, int nb, const int *bi, const double *bv, linresp_result *res)
+{
+	*res = (linresp_result){ .gHg = NAN };
+	if (nb < 0 || nb > lr->n)
+		return MESH_EDOM;
+	double b2 = 0;
+	for (int i = 0; i < nb; i++) {
+		if (bi[i] < 0 || bi[i] >= lr->n || !isfinite(bv[i]))
+			return MESH_EDOM;
+		b2 += bv[i] * bv[i];
+	}
+	if (b2 == 0) {
+		*res = (linresp_result){ .gHg = 0, .a1 = -INFINITY, .sure = 1 };
+		return MESH_OK;
+	}
+	int *gi = malloc(((size_t)nb + 1) * sizeof *gi);
+	double *gv = malloc(((size_t)nb + 1) * sizeof *gv);
+	int st = MESH_ENOMEM;
+	if (gi && gv) {
+		memcpy(gi, bi, (size_t)nb * sizeof *gi);
+		memcpy(gv, bv, (size_t)nb * sizeof *gv);
+		st = quad(lr, nb, gi, gv, b2 / 2, 1, res);
+	}
+	free(gi);
+	free(gv);
+	return st;
 }
 
 /* ---- the dispatch between the dense and the sparse method ---- */

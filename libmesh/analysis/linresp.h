@@ -78,6 +78,7 @@
 
 #include "energy.h"
 #include "mesh.h"
+#include "sparse.h"
 
 typedef struct linresp linresp;
 
@@ -91,6 +92,11 @@ typedef struct linresp linresp;
 int linresp_alloc(const mesh *m, const model *p, double zerotol, double gnull_min,
                   double max_bytes, linresp **out, mesh_error *err);
 void linresp_free(linresp *lr);
+
+/* Step 1 alone: max |lambda| of the symmetric h by Lanczos, the scale of
+ * the zero cut (the same bits for the same matrix).  MESH_OK,
+ * MESH_ENOMEM, MESH_ENOCONV (a zero matrix). */
+int linresp_lmax(const spsym *h, double *lmax);
 
 typedef struct {
 	double lmax, tol;   /* max |lambda| and the zero cut */
@@ -114,11 +120,24 @@ typedef struct {
 	int sure;           /* 1: the a1 = 0 classification is certain to be the
 	                       dense cut's (always when pinned) */
 	int nsolve;         /* whole solves this junction took */
+	double x2;          /* linresp_quad: |x|^2 of the solve x = H^+ b (the
+	                       pinned factor's, or (H + tol I)^-1 b), for a
+	                       bound on the rounding of gHg; 0 from linresp_a1 */
 } linresp_result;
 
 /* The linear response of junction j of the mesh lr was made from.
  * MESH_OK, MESH_EDOM for a bad j, MESH_ENOMEM. */
 int linresp_a1(linresp *lr, const mesh *m, int j, linresp_result *res);
+
+/* The same for any vector b with no part along the translations (its x
+ * entries sum to zero, and its y entries): the nb entries bv at distinct
+ * rows bi (all 2 nv rows for a dense b).  gHg = b^T H^+ b over the
+ * nonzero modes, gnull b's weight on the zero modes, judged floppy
+ * against gnull_min |b|^2 / 2 (so |b| does not matter: for a junction's
+ * g, |g|^2 = 2, the two are linresp_a1's); a1 = -2 / gHg, or 0 when
+ * floppy.  The modulus of a strain (elastic.h) is one such form.  MESH_OK,
+ * MESH_EDOM for a bad row or a value that is not finite, MESH_ENOMEM. */
+int linresp_quad(linresp *lr, int nb, const int *bi, const double *bv, linresp_result *res);
 
 /* ---- the exact a1 of junctions, dense or sparse ---- */
 
