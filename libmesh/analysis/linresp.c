@@ -129,11 +129,6 @@ done:
 	return st;
 }
 
-int linresp_lmax(const spsym *h, double *lmax)
-{
-	return lanczos_max(h, lmax);
-}
-
 /* Factor A + shift I into f and return its count of negative pivots (or
  * -1 with *st set). */
 static int count_below(ldl *f, const spsym *a, double shift, linresp *lr, int *st)

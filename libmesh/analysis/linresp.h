@@ -78,7 +78,6 @@
 
 #include "energy.h"
 #include "mesh.h"
-#include "sparse.h"
 
 typedef struct linresp linresp;
 
@@ -92,11 +91,6 @@ typedef struct linresp linresp;
 int linresp_alloc(const mesh *m, const model *p, double zerotol, double gnull_min,
                   double max_bytes, linresp **out, mesh_error *err);
 void linresp_free(linresp *lr);
-
-/* Step 1 alone: max |lambda| of the symmetric h by Lanczos, the scale of
- * the zero cut (the same bits for the same matrix).  MESH_OK,
- * MESH_ENOMEM, MESH_ENOCONV (a zero matrix). */
-int linresp_lmax(const spsym *h, double *lmax);
 
 typedef struct {
 	double lmax, tol;   /* max |lambda| and the zero cut */
