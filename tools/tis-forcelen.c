@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "select.h"
 #include "forcelen.h"
+#include "barrier.h"
 #include "energy.h"
 
 static const char usage[] =
@@ -53,6 +54,13 @@ static const char help[] =
 	"                   memory about linear, faster at every size) or auto\n"
 	"                   (sparse, and dense where sparse cannot certify its\n"
 	"                   answer on up to " STR(FL_LIN_DENSE_MAXNV) " vertices; the default)\n"
+	"  --barrier        instead of sweeps, the T1 energy barrier of each junction:\n"
+	"                   shrunk from l0 by --step to --lmin (default 1e-3 here),\n"
+	"                   then at 0 as a four-fold vertex; the highest W minus\n"
+	"                   W(l0) (table p0 j a b l0 barrier l_max W0 Wzero wgap sure\n"
+	"                   status)\n"
+	"  --summary        with --barrier: one row per mesh, the barriers' mean,\n"
+	"                   median and exponential fit (tis-forcelen(1))\n"
 	"  --max-memory SIZE  with --linear: refuse a mesh whose linear response needs\n"
 	"                   more (bytes, or with k, M, G, T: 8G); default the memory\n"
 	"                   available now\n"
@@ -70,6 +78,7 @@ struct opts {
 	cli_model_opts mo;
 	fl_opts fl;
 	int relax, linear, threads;
+	int barrier, summary;     /* --barrier, --summary */
 	int method;               /* --linear-method */
 	const char *method_opt;   /* as given, NULL: not given */
 	const char *max_memory;   /* --max-memory, NULL: the memory available */
@@ -81,7 +90,8 @@ static struct opts parse(int argc, char **argv)
 {
 	enum { O_P0 = 256, O_KA, O_STEP, O_RANGE, O_LMIN, O_NOBACK, O_PRED, O_TOL,
 	       O_ALGO, O_MAXEVAL, O_NORELAX, O_LINEAR, O_THREADS, O_JUNCTION,
-	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION, O_NOPC, O_MAXMEM, O_METHOD };
+	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION, O_NOPC, O_MAXMEM, O_METHOD,
+	       O_BARRIER, O_SUMMARY };
 	static const struct option lo[] = {
 		{ "junction", required_argument, NULL, O_JUNCTION },
 		{ "index", required_argument, NULL, O_INDEX },
@@ -101,6 +111,8 @@ static struct opts parse(int argc, char **argv)
 		{ "no-relax", no_argument, NULL, O_NORELAX },
 		{ "no-precond", no_argument, NULL, O_NOPC },
 		{ "linear", no_argument, NULL, O_LINEAR },
+		{ "barrier", no_argument, NULL, O_BARRIER },
+		{ "summary", no_argument, NULL, O_SUMMARY },
 		{ "threads", required_argument, NULL, O_THREADS },
 		{ "max-memory", required_argument, NULL, O_MAXMEM },
 		{ "linear-method", required_argument, NULL, O_METHOD },
@@ -111,12 +123,17 @@ static struct opts parse(int argc, char **argv)
 	struct opts o = { .js = { .kind = JSEL_NONE, .seed = 1 }, .relax = 1, .threads = 0 };
 	fl_opts_init(&o.fl);
 	const char *sweep_opt = NULL;   /* the first option only a sweep uses */
+	const char *leg_opt = NULL;     /* the first only a sweep's legs use */
+	int has_lmin = 0;
 	int c;
 	int li;
 	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
 		if (sweep_opt == NULL && (c == O_STEP || c == O_RANGE || c == O_LMIN || c == O_NOBACK ||
 		                          c == O_PRED || c == O_ALGO || c == O_MAXEVAL || c == O_NOPC))
 			sweep_opt = lo[li].name;
+		if (leg_opt == NULL && (c == O_RANGE || c == O_NOBACK || c == O_PRED))
+			leg_opt = lo[li].name;
+		has_lmin |= c == O_LMIN;
 		switch (c) {
 		case O_JUNCTION: case O_INDEX: case O_RANDOM: case O_ALL:
 			cli_jsel(&o.js, lo[li].name, 1, "choose one of --junction, --index, --random, --all",
@@ -139,6 +156,8 @@ static struct opts parse(int argc, char **argv)
 		case O_NORELAX: o.relax = 0; break;
 		case O_NOPC: o.fl.min.precond = 0; break;
 		case O_LINEAR: o.linear = 1; break;
+		case O_BARRIER: o.barrier = 1; break;
+		case O_SUMMARY: o.summary = 1; break;
 		case O_THREADS: o.threads = (int)cli_long("--threads", optarg, 1, FL_MAXTHREADS); break;
 		case O_MAXMEM: o.max_memory = optarg; break;
 		case O_METHOD:
@@ -159,6 +178,13 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("choose junctions with --junction, --index, --random or --all");
 	if (o.linear && sweep_opt)
 		cli_usage_error("--linear sweeps nothing: --%s does nothing with it", sweep_opt);
+	if (o.barrier && (o.linear || leg_opt))
+		cli_usage_error("--barrier shrinks each junction once: --%s does nothing with it",
+		                o.linear ? "linear" : leg_opt);
+	if (o.summary && !o.barrier)
+		cli_usage_error("--summary is for --barrier");
+	if (o.barrier && !has_lmin)
+		o.fl.lmin = 1e-3;
 	o.max_bytes = cli_max_memory(o.max_memory);
 	if (o.max_memory && !o.linear)
 		cli_usage_error("--max-memory is for --linear: the sweeps need no dense work");
@@ -253,7 +279,7 @@ int main(int argc, char **argv)
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;
-	int nmesh = 0, badpoints = 0, allpoints = 0, written = 0, asked = 0, header = 0;
+	int nmesh = 0, badpoints = 0, allpoints = 0, written = 0, asked = 0, header = 0, badbar = 0;
 	double worst = 0;
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		nmesh++;
@@ -274,6 +300,19 @@ int main(int argc, char **argv)
 		/* the header waits for a valid mesh and junction (bad input
 		 * leaves no output) and for a whole curve (a run stopped before
 		 * one leaves none either) */
+		if (o.barrier) {
+			if (!header++)
+				cli_table_header(stdout, m, o.summary ? BAR_SUMMARY_COLUMNS : BAR_COLUMNS);
+			bar_opts bo = { .step = o.fl.step, .lmin = o.fl.lmin, .min = o.fl.min };
+			int nbad = 0;
+			if (bar_job(stdout, m, &p, sel, count, &bo, o.threads, o.summary, &nbad, &cli_stop,
+			            &err) != MESH_OK && !cli_stop)
+				cli_die(EXIT_INPUT, "%s", err.msg);
+			badbar += nbad;
+			free(sel);
+			mesh_free(m);
+			continue;
+		}
 		if (o.linear) {
 			if (!header++)
 				cli_table_header(stdout, m, FL_LINEAR_COLUMNS);
@@ -326,6 +365,8 @@ int main(int argc, char **argv)
 	}
 	if (nmesh == 0)
 		cli_no_mesh(o.input);
+	if (badbar)
+		cli_finish_status(EXIT_NOCONV, "%d barriers not whole (status not ok)", badbar);
 	if (badpoints)
 		cli_finish_status(EXIT_NOCONV, "%d of %d points missed the force tolerance %g "
 		                  "(worst %.3g)", badpoints, allpoints, o.fl.min.ftol, worst);
