@@ -128,7 +128,7 @@ int main(int argc, char **argv)
 		if (o.fd > 0) {
 			min_opts mo;
 			min_opts_init(&mo);
-			mo.ftol = fmin(o.tol, 1e-12);
+			mo.ftol = o.tol;
 			mo.threads = o.threads;
 			mo.thread_min = cli_thread_min();
 			st = elastic_fd(m, &p, o.fd, &mo, &r, &err);
