@@ -67,8 +67,8 @@ static struct opts parse(int argc, char **argv)
 	int c;
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
 		switch (c) {
-		case O_P0: o.mo.p0 = cli_param("--p0", optarg, "p0"); o.mo.has_p0 = 1; break;
-		case O_KA: o.mo.ka = cli_param("--ka", optarg, "ka"); o.mo.has_ka = 1; break;
+		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
+		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
 		case O_TOL: o.tol = cli_double_range("--tol", optarg, 1e-16, 1); break;
 		case O_NORELAX: o.relax = 0; break;
 		case O_FD: o.fd = cli_double_range("--fd", optarg, 1e-8, 0.05); break;
@@ -113,7 +113,7 @@ int main(int argc, char **argv)
 	long line = 0;
 	mesh *m;
 	int nmesh = 0, missed = 0;
-	while (cli_read_mesh(in, o.input, &line, &m)) {
+	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		nmesh++;
 		model p = cli_model(m, &o.mo);
 		mesh_error err;
@@ -163,7 +163,11 @@ int main(int argc, char **argv)
 	if (in != stdin)
 		fclose(in);
 	if (nmesh == 0)
-		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
+		cli_no_mesh(o.input);
+	if (cli_stop) {
+		printf("# %s interrupted by %s: the table ends early\n", cli_name, cli_stop_name());
+		cli_finish_status(EXIT_NOCONV, "interrupted by %s: the table ends early", cli_stop_name());
+	}
 	if (missed)
 		cli_finish_status(EXIT_NOCONV, "%d relaxations missed the force tolerance", missed);
 	cli_finish();

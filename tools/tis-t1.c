@@ -86,8 +86,8 @@ static struct opts parse(int argc, char **argv)
 			         "choose one of --junction, --index, --random, --list, --all", argc, argv);
 			break;
 		case O_SEED: o.js.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_P0: o.mo.p0 = cli_param("--p0", optarg, "p0"); o.mo.has_p0 = 1; break;
-		case O_KA: o.mo.ka = cli_param("--ka", optarg, "ka"); o.mo.has_ka = 1; break;
+		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
+		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
 		case O_LNEW: o.t1.lnew = cli_double_range("--lnew", optarg, 1e-9, 10); break;
 		case O_LSTOP: o.t1.lstop = cli_double_range("--lstop", optarg, 1e-12, 10); break;
 		case O_ALGO:
@@ -122,7 +122,7 @@ int main(int argc, char **argv)
 	long line = 0;
 	mesh *m;
 	int nmesh = 0, missed = 0;
-	while (cli_read_mesh(in, o.input, &line, &m)) {
+	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		model p = cli_model(m, &o.mo);
 		mesh_error err;
 		fl_rest_report rr;
@@ -165,7 +165,11 @@ int main(int argc, char **argv)
 	if (in != stdin)
 		fclose(in);
 	if (nmesh == 0)
-		cli_die(EXIT_INPUT, "%s: no mesh in input", cli_input_name(o.input));
+		cli_no_mesh(o.input);
+	if (cli_stop) {
+		printf("# %s interrupted by %s: the table ends early\n", cli_name, cli_stop_name());
+		cli_finish_status(EXIT_NOCONV, "interrupted by %s: the table ends early", cli_stop_name());
+	}
 	if (missed)
 		cli_finish_status(EXIT_NOCONV, "%d relaxations missed the force tolerance %g", missed,
 		                  o.t1.min.ftol);

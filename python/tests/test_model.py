@@ -65,7 +65,7 @@ def test_vertex_table(work):
 def test_cell_table_has_no_column_named_shape():
     m = tis.read_mesh(SAMPLES[0])
     c = m.cell_table()
-    assert "shape" not in c.columns and c.shape == (m.nc, 7)
+    assert "shape" not in c.columns and c.shape == (m.nc, 11)
     assert np.array_equal(c["shape_index"].to_numpy(), m.shape_index())
 
 
