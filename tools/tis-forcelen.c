@@ -301,13 +301,29 @@ int main(int argc, char **argv)
 		 * leaves no output) and for a whole curve (a run stopped before
 		 * one leaves none either) */
 		if (o.barrier) {
-			if (!header++)
-				cli_table_header(stdout, m, o.summary ? BAR_SUMMARY_COLUMNS : BAR_COLUMNS);
+			/* a mesh's rows whole or none: a stop leaves no junction's
+			 * row behind (the header neither, before the first mesh's) */
 			bar_opts bo = { .step = o.fl.step, .lmin = o.fl.lmin, .min = o.fl.min };
 			int nbad = 0;
-			if (bar_job(stdout, m, &p, sel, count, &bo, o.threads, o.summary, &nbad, &cli_stop,
-			            &err) != MESH_OK && !cli_stop)
+			char *buf = NULL;
+			size_t len = 0;
+			FILE *mf = open_memstream(&buf, &len);
+			if (mf == NULL)
+				cli_die(EXIT_INPUT, "out of memory");
+			int st = bar_job(mf, m, &p, sel, count, &bo, o.threads, o.summary, &nbad,
+			                 &cli_stop, &err);
+			if (fclose(mf) != 0)
+				cli_die(EXIT_INPUT, "out of memory");
+			if (st != MESH_OK && !cli_stop)
 				cli_die(EXIT_INPUT, "%s", err.msg);
+			asked += count;
+			if (st == MESH_OK) {
+				if (!header++)
+					cli_table_header(stdout, m, o.summary ? BAR_SUMMARY_COLUMNS : BAR_COLUMNS);
+				fwrite(buf, 1, len, stdout);
+				written += count;
+			}
+			free(buf);
 			badbar += nbad;
 			free(sel);
 			mesh_free(m);
@@ -354,14 +370,16 @@ int main(int argc, char **argv)
 	}
 	if (in != stdin)
 		fclose(in);
+	const char *what = o.barrier ? "barriers" : "curves";
 	if (cli_stop && !header)
-		cli_interrupted(nmesh ? "before a curve was whole" : "before a mesh came in");
+		cli_interrupted(!nmesh ? "before a mesh came in" : o.barrier ? "before a mesh's barriers "
+		                "were whole" : "before a curve was whole");
 	if (cli_stop) {
-		printf("# %s interrupted by %s: %d of %d curves written%s, whole curves only\n",
-		       cli_name, cli_stop_name(), written, asked,
-		       nmesh > 1 ? " (of the meshes read so far)" : "");
-		cli_finish_status(EXIT_NOCONV, "interrupted by %s: wrote %d of %d curves, "
-		                  "whole curves only", cli_stop_name(), written, asked);
+		printf("# %s interrupted by %s: %d of %d %s written%s, whole %s only\n",
+		       cli_name, cli_stop_name(), written, asked, what,
+		       nmesh > 1 ? " (of the meshes read so far)" : "", o.barrier ? "meshes" : what);
+		cli_finish_status(EXIT_NOCONV, "interrupted by %s: wrote %d of %d %s, whole %s only",
+		                  cli_stop_name(), written, asked, what, o.barrier ? "meshes" : what);
 	}
 	if (nmesh == 0)
 		cli_no_mesh(o.input);
