@@ -2,9 +2,9 @@
 # tis-forcelen --barrier: the columns, the barrier against the W column of
 # a tis-forcelen sweep of the same junction (its rest W, its highest W on
 # the way in, the straight continuation of its last points to zero
-# length), the summary, threads, a mesh not at rest, bad usage.
+# length), the summary, threads, a mesh not at rest, a stop, bad usage.
 . "$(dirname "$0")/lib.sh"
-plan 10
+plan 11
 
 S=samples/disordered-1.mesh
 tis-forcelen --barrier --index 679 --threads 1 "$S" >"$T/b.tsv"
@@ -35,6 +35,16 @@ b0=$(rows "$T/b.tsv" | cut -f6)
 b1=$(rows "$T/off.tsv" | cut -f6)
 ok "a mesh not at rest: relaxed first with a warning, the same barrier ($b1) to 1e-9" \
 	sh -c "grep -q 'not at rest' '$T/off.err' && awk -v a='$b0' -v b='$b1' 'BEGIN { d = a - b; exit !(b != \"\" && d < 1e-9 && d > -1e-9) }'"
+# stopped long before the 972 barriers are whole (about 100 CPU s):
+# nothing written, not even the header, and the status of SIGINT
+tis-forcelen --barrier --all --threads 1 "$S" >"$T/int.tsv" 2>"$T/int.err" &
+pid=$!
+sleep 1
+kill -INT "$pid"
+wait "$pid"
+st=$?
+ok "stopped before a mesh's barriers are whole: nothing written, status 130 ($st)" \
+	test "$st $(wc -c <"$T/int.tsv") $(grep -c 'nothing written' "$T/int.err")" = "130 0 1"
 fails_with 2 "--barrier with --range" tis-forcelen --barrier --range 0.1 --index 0 "$S"
 fails_with 2 "--summary without --barrier" tis-forcelen --summary --index 0 "$S"
 fails_with 2 "--barrier with --linear" tis-forcelen --barrier --linear --index 0 "$S"
