@@ -8,7 +8,7 @@
 # tests/hold.c.)
 . "$(dirname "$0")/lib.sh"
 
-plan 21
+plan 24
 
 tis-hex 6 6 --p0 3.65 >"$T/hx.mesh" || exit 1
 # junction 0 joins vertices 1 and 0 (tis-info --junctions): both at its
@@ -40,8 +40,9 @@ tis-vtk "$T/h.mesh" >"$T/h.vtp"
 ok "tis-vtk marks its vertices (point data 'held')" grep -q 'Name="held"' "$T/h.vtp"
 tis-vtk "$T/hx.mesh" >"$T/hx.vtp"
 ok "a mesh without: no such array" sh -c "! grep -q 'Name=\"held\"' '$T/hx.vtp'"
-for p in tis-relax tis-stability tis-forcelen tis-anneal; do
-	case $p in tis-stability) a="--index 1 --rate 1" ;; tis-forcelen) a="--index 1" ;; *) a= ;; esac
+for p in tis-relax tis-stability tis-forcelen tis-anneal tis-elastic tis-t1 tis-forcelen-barrier; do
+	case $p in tis-stability) a="--index 1 --rate 1" ;; tis-forcelen | tis-t1) a="--index 1" ;;
+	tis-forcelen-barrier) p=tis-forcelen a="--barrier --index 1" ;; *) a= ;; esac
 	# shellcheck disable=SC2086
 	$p $a "$T/h.mesh" >"$T/out" 2>"$T/err"
 	st=$?
