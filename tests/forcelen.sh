@@ -3,7 +3,7 @@
 # against the exact linear response, threads do not change the bytes,
 # several meshes in one stream, the return legs, usage and input errors.
 . "$(dirname "$0")/lib.sh"
-plan 57
+plan 58
 
 tis-hex 6 6 --p0 3.6 >"$T/h.mesh"
 tis-forcelen --index 0 --range 0.02 "$T/h.mesh" >"$T/c.tsv"
@@ -11,7 +11,7 @@ rows "$T/c.tsv" >"$T/c.rows"
 ok "provenance: the mesh's history, then this command" test "$(grep '^#' "$T/c.tsv")" = \
 	"$(printf '# tis-hex 6 6 --p0 3.6\n# tis-forcelen --index 0 --range 0.02 %s' "$T/h.mesh")"
 ok "then one plain line naming the columns" \
-	test "$(names "$T/c.tsv")" = "$(printf 'p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres')"
+	test "$(names "$T/c.tsv")" = "$(printf 'p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres\tstatus\tjzero')"
 ok "17 rows: rest, 4 out and 4 back on each side" test "$(wc -l <"$T/c.rows")" = 17
 ok "f(l0) = 0 at the rest point" \
 	near "$(awk -F'\t' '$6 == "rest" { print $8 }' "$T/c.tsv")" 0 1e-9
@@ -69,7 +69,7 @@ ok "fit: fres_max, the largest residual of the points fitted, within 1e-10" \
 # Plain CG gives the same curve to within the force tolerance.
 tis-forcelen --index 0 --range 0.02 --no-precond "$T/h.mesh" | rows >"$T/np.tsv"
 ok "--no-precond: the same curve" sh -c "paste '$T/c.rows' '$T/np.tsv' | awk -F'\t' '
-	{ d = \$8 - \$18; if (d < 0) d = -d; if (d > 1e-9 || \$7 != \$17) exit 1 }'"
+	{ d = \$8 - \$20; if (d < 0) d = -d; if (d > 1e-9 || \$7 != \$19) exit 1 }'"
 
 # Threads and selection.
 tis-forcelen --random 3 --seed 5 --range 0.01 --threads 1 "$T/h.mesh" >"$T/t1"
@@ -93,10 +93,15 @@ ok "--branch back fits the return legs" sh -c "tis-fit --degree 2 --window 0.02 
 fails_with 3 "points that missed the tolerance: exit 3, one line on stderr" \
 	tis-forcelen --index 0 --range 0.02 --maxeval 2 "$T/h.mesh"
 nbad=$(rows "$T/out" | awk -F'\t' '$10 > 1e-10' | wc -l)
+nrow=$(rows "$T/out" | wc -l)
 ok "the count on stderr ($(cat "$T/err")) is the rows whose fres exceeds the tolerance" \
-	grep -q ": $nbad of 17 points missed the force tolerance 1e-10 (worst " "$T/err"
-ok "and the curve is written whole, the misses in its fres column" \
-	test "$(rows "$T/out" | wc -l)" = 17 -a "$nbad" -gt 0
+	grep -q ": $nbad of $nrow points did not converge to the force tolerance 1e-10 (status not-converged)" "$T/err"
+rows "$T/out" >"$T/out.rows"
+ok "... every one of them, and only they, with status not-converged" awk -F'\t' '
+	($10 > 1e-10) != ($11 == "not-converged") || ($11 != "ok" && $11 != "not-converged") { exit 1 }
+	END { exit NR != '"$nrow"' }' "$T/out.rows"
+ok "and the sweep is written whole: the out legs, no return from a leg without a result" \
+	test "$nrow" = 9 -a "$nbad" -gt 0
 ok "--help to stdout" sh -c "tis-forcelen --help | grep -q '^usage: tis-forcelen' && tis-fit --help | grep -q '^usage: tis-fit'"
 
 fails_with 2 "--linear with a sweep option" tis-forcelen --index 0 --linear --no-back "$T/h.mesh"

@@ -86,9 +86,10 @@ int main(void)
 		fl_sweeps_io io = { on_curve, on_progress, &s };
 		fl_sweeps_result r;
 		int st = fl_sweeps(m, &p, &o, sel, NSEL, nt, NULL, &io, &r, &err);
-		ok(st == MESH_OK && r.written == NSEL && r.points == total && r.missed == 0,
-		   "%d thread(s): %d curves of %d points, none missed (status %d, %d, %d, %d)", nt,
-		   NSEL, total, st, r.written, r.points, r.missed);
+		ok(st == MESH_OK && r.written == NSEL && r.points == total &&
+		   r.nstatus[FL_OK] == total,
+		   "%d thread(s): %d curves of %d points, all ok (status %d, %d, %d, %d)", nt,
+		   NSEL, total, st, r.written, r.points, r.nstatus[FL_OK]);
 		ok(same_as_single(&s, m, &p, &o, sel),
 		   "%d thread(s): fl_sweep's curves, the same bits, in the order asked", nt);
 		ok(s.progress_calls >= 1 && s.progress_last, "%d thread(s): progress to %d of %d", nt,
@@ -102,18 +103,26 @@ int main(void)
 	fl_sweeps_io io = { on_curve, NULL, &s };
 	fl_sweeps_result r;
 	int st = fl_sweeps(m, &p, &tight, sel, NSEL, 2, NULL, &io, &r, &err);
-	int nbad = 0;
+	int nbad = 0, nok = 0, wrong = 0;
 	double worst = 0;
 	for (int k = 0; k < s.n && k < NSEL; k++)
-		for (int i = 0; i < s.npts[k]; i++)
-			if (s.pts[k][i].fres > tight.min.ftol) {
+		for (int i = 0; i < s.npts[k]; i++) {
+			const fl_point *q = &s.pts[k][i];
+			if (q->fres > tight.min.ftol)
 				nbad++;
-				worst = fmax(worst, s.pts[k][i].fres);
-			}
-	ok(st == MESH_OK && r.written == NSEL && nbad > 0 && r.missed == nbad,
-	   "maxeval 2: the curves are whole, %d misses counted, %d residuals beyond the tolerance",
-	   r.missed, nbad);
-	ok(r.worst == worst, "the worst residual is the largest of those (%.3g)", r.worst);
+			else
+				worst = fmax(worst, q->fres);
+			nok += q->status == FL_OK;
+			/* a status says whether the point is a result */
+			wrong += (q->status == FL_OK) != (q->fres <= tight.min.ftol) ||
+			         (q->status == FL_NOCONV && q->jzero != -1);
+		}
+	ok(st == MESH_OK && r.written == NSEL && nbad > 0 && r.nstatus[FL_NOCONV] == nbad &&
+	   r.nstatus[FL_OK] == nok && wrong == 0,
+	   "maxeval 2: the curves are whole, %d not-converged counted, %d residuals beyond the "
+	   "tolerance, every status right", r.nstatus[FL_NOCONV], nbad);
+	ok(r.worst == worst, "the worst residual of the results is the largest of those (%.3g)",
+	   r.worst);
 
 	/* the callback stops the sweeps */
 	for (int nt = 1; nt <= 2; nt++) {
@@ -165,20 +174,21 @@ int main(void)
 	fl_curve_write(f, p.p0, m, sel[0], s.pts[0], s.npts[0]);
 	rewind(f);
 	int nrow = 0, good = 1;
-	char dir[16];
+	char dir[16], status[32];
 	double p0, l0, l, fo, W, fres;
-	int jj, a, b;
-	while (fscanf(f, "%lf %d %d %d %lf %15s %lf %lf %lf %lf", &p0, &jj, &a, &b, &l0, dir, &l,
-	              &fo, &W, &fres) == 10) {
+	int jj, a, b, jz;
+	while (fscanf(f, "%lf %d %d %d %lf %15s %lf %lf %lf %lf %31s %d", &p0, &jj, &a, &b, &l0,
+	              dir, &l, &fo, &W, &fres, status, &jz) == 12) {
 		const fl_point *pt = &s.pts[0][nrow];
 		good &= p0 == p.p0 && jj == sel[0] && a == m->jv[2 * sel[0]] &&
 		        b == m->jv[2 * sel[0] + 1] && strcmp(dir, fl_dir_name(pt->dir)) == 0 &&
-		        fabs(l - pt->l) <= 1e-11 && fabs(l0 - junction_length(m, m->r, sel[0])) < 1e-11;
+		        fabs(l - pt->l) <= 1e-11 && fabs(l0 - junction_length(m, m->r, sel[0])) < 1e-11 &&
+		        strcmp(status, fl_status_name(pt->status)) == 0 && jz == pt->jzero;
 		nrow++;
 	}
-	ok(nrow == s.npts[0] && good, "a curve's rows: %d of them, p0 j a b l0 dir l ... as documented",
-	   nrow);
-	ok(strcmp(FL_CURVE_COLUMNS, "p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres") == 0,
+	ok(nrow == s.npts[0] && good, "a curve's rows: %d of them, p0 j a b l0 dir l ... status "
+	   "jzero as documented", nrow);
+	ok(strcmp(FL_CURVE_COLUMNS, "p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres\tstatus\tjzero") == 0,
 	   "the curve columns name them");
 	fclose(f);
 

@@ -197,7 +197,7 @@ static int quad_pcapply(const double *r, double *z, void *data)
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(60);
+	tap_plan(69);
 	mesh_error err;
 	mesh *hex;
 	lattice_honeycomb(18, 18, &hex, &err);

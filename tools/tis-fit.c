@@ -6,9 +6,11 @@
 
 #include "cli.h"
 #include "fit_table.h"
+#include "forcelen.h"
 
 static const char usage[] =
-	"[--degree N] [--window W] [--branch out|back|all] [--max-fres F] [--cusps [--threshold T]] [--summary] [TABLE]";
+	"[--degree N] [--window W] [--branch out|back|all] [--status LIST] [--max-fres F]\n"
+	"       [--cusps [--threshold T]] [--summary] [TABLE]";
 static const char help[] =
 	"Read the f(l) table of tis-forcelen and fit, per junction, f(l) =\n"
 	"sum_k a_k (l - l0)^k by linear least squares over |l - l0| <= W.\n"
@@ -19,6 +21,10 @@ static const char help[] =
 	"  --branch B       out: the rest point and the legs away from l0\n"
 	"                   (default); back: the rest point and the return legs;\n"
 	"                   all: every row\n"
+	"  --status LIST    fit the points whose status (tis-forcelen) is in the\n"
+	"                   comma-separated LIST of ok, plastic, not-converged,\n"
+	"                   no-minimum, or all (default ok: the points that are\n"
+	"                   results of the elastic sweep)\n"
 	"  --max-fres F     leave out points whose residual force fres exceeds F\n"
 	"                   (they are not at a constrained minimum; default: keep all)\n"
 	"  --cusps          list instead the runs of points, ordered by l, where\n"
@@ -43,13 +49,34 @@ struct opts {
 	double window, threshold, max_fres;
 	fit_branch branch;
 	int cusps, summary;
+	unsigned status;   /* bit s: fit points of fl_status s */
 	const char *input;
 };
+
+/* --status LIST as a set of fl_status bits. */
+static unsigned parse_status(const char *arg)
+{
+	if (strcmp(arg, "all") == 0)
+		return (1u << FL_NSTATUS) - 1;
+	unsigned set = 0;
+	char buf[128];
+	snprintf(buf, sizeof buf, "%s", arg);
+	for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+		int st = fl_status_parse(t);
+		if (st < 0)
+			cli_usage_error("--status: unknown status '%s' (ok, plastic, not-converged, "
+			                "no-minimum, all)", t);
+		set |= 1u << st;
+	}
+	if (set == 0)
+		cli_usage_error("--status: no status given");
+	return set;
+}
 
 static struct opts parse(int argc, char **argv)
 {
 	enum { O_DEG = 256, O_WIN, O_BRANCH, O_CUSPS, O_THR, O_SUMMARY, O_VERSION,
-	       O_MAXFRES };
+	       O_MAXFRES, O_STATUS };
 	static const struct option lo[] = {
 		{ "degree", required_argument, NULL, O_DEG },
 		{ "window", required_argument, NULL, O_WIN },
@@ -58,12 +85,13 @@ static struct opts parse(int argc, char **argv)
 		{ "threshold", required_argument, NULL, O_THR },
 		{ "summary", no_argument, NULL, O_SUMMARY },
 		{ "max-fres", required_argument, NULL, O_MAXFRES },
+		{ "status", required_argument, NULL, O_STATUS },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, O_VERSION },
 		{ 0 }
 	};
 	struct opts o = { .degree = 5, .window = 0.1, .threshold = 1e-3, .branch = FIT_BRANCH_OUT,
-	                 .max_fres = INFINITY };
+	                 .max_fres = INFINITY, .status = 1u << FL_OK };
 	int has_thr = 0;
 	int c;
 	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
@@ -83,6 +111,7 @@ static struct opts parse(int argc, char **argv)
 		case O_CUSPS: o.cusps = 1; break;
 		case O_THR: o.threshold = cli_double_range("--threshold", optarg, 0, 1e6); has_thr = 1; break;
 		case O_MAXFRES: o.max_fres = cli_double_range("--max-fres", optarg, 0, 1e6); break;
+		case O_STATUS: o.status = parse_status(optarg); break;
 		case O_SUMMARY: o.summary = 1; break;
 		case 'h': cli_help(help);
 		case O_VERSION: cli_version();
@@ -219,7 +248,8 @@ int main(int argc, char **argv)
 		double fres = NAN;
 		if (col.fres >= 0 && table_number(rd, col.fres, &fres, &err) != MESH_OK)
 			die_at(MESH_EINVAL, &err);
-		if (!fit_branch_uses(o.branch, pt.dir) || fres > o.max_fres)
+		if (!fit_branch_uses(o.branch, pt.dir) || fres > o.max_fres ||
+		    !(o.status & (1u << pt.status)))
 			continue;
 		if (fit_curve_add(&curve, pt.l, pt.f, fres, o.cusps || fit_in_window(pt.l - pt.l0, o.window)))
 			cli_die(EXIT_INPUT, "out of memory");

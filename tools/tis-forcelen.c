@@ -36,9 +36,15 @@ static const char help[] =
 	"  --lmin L         smallest length (0.01)\n"
 	"  --no-back        no return legs (no hysteresis check)\n"
 	"  --predict N      extrapolation order of the warm starts, 0..4 (4)\n"
+	"  --t1 L           plastic sweeps: a neighbouring junction shorter than L\n"
+	"                   at a point, or run to zero length, is flipped by a T1\n"
+	"                   and the sweep goes on (its points: status plastic);\n"
+	"                   default: no T1, a leg ends where it has no minimum\n"
 	"Minimizer:\n"
 	"  --tol F          residual force tolerance (1e-10)\n"
-	"  --algo NAME      newton, lbfgs, fire, bfgs2, tnewton, var2 (newton)\n"
+	"  --algo NAME      auto (the default: newton in a rigid tissue, gn where it\n"
+	"                   is floppy, lm where it is in part), newton, lm, gn,\n"
+	"                   lbfgs, fire, bfgs2, tnewton, var2\n"
 	"  --maxeval N      evaluations per point (100000)\n"
 	"  --no-precond     plain CG in Newton-CG (default: preconditioned by a\n"
 	"                   sparse Cholesky factorization of the Hessian, reused\n"
@@ -69,9 +75,12 @@ static const char help[] =
 	"  -h, --help       this help\n"
 	"  --version        print the version\n"
 	"\n"
-	"Columns: p0 j a b l0 dir l f W fres; dir is rest, out (away from l0) or\n"
-	"back (returning), fres the residual force of the point.  Exit status 3\n"
-	"if some point missed the tolerance (all rows are still written).\n";
+	"Columns: p0 j a b l0 dir l f W fres status jzero; dir is rest, out (away\n"
+	"from l0) or back (returning), fres the residual force of the point,\n"
+	"status ok (a result), no-minimum (a junction, jzero, ran to zero length:\n"
+	"the leg ends there), not-converged, or plastic (a result after a T1 of\n"
+	"junction jzero).  Exit status 3 if some point did not converge (all rows\n"
+	"are still written).\n";
 
 struct opts {
 	jsel js;
@@ -88,7 +97,7 @@ struct opts {
 
 static struct opts parse(int argc, char **argv)
 {
-	enum { O_P0 = 256, O_KA, O_STEP, O_RANGE, O_LMIN, O_NOBACK, O_PRED, O_TOL,
+	enum { O_P0 = 256, O_KA, O_STEP, O_RANGE, O_LMIN, O_NOBACK, O_PRED, O_T1, O_TOL,
 	       O_ALGO, O_MAXEVAL, O_NORELAX, O_LINEAR, O_THREADS, O_JUNCTION,
 	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION, O_NOPC, O_MAXMEM, O_METHOD,
 	       O_BARRIER, O_SUMMARY };
@@ -105,6 +114,7 @@ static struct opts parse(int argc, char **argv)
 		{ "lmin", required_argument, NULL, O_LMIN },
 		{ "no-back", no_argument, NULL, O_NOBACK },
 		{ "predict", required_argument, NULL, O_PRED },
+		{ "t1", required_argument, NULL, O_T1 },
 		{ "tol", required_argument, NULL, O_TOL },
 		{ "algo", required_argument, NULL, O_ALGO },
 		{ "maxeval", required_argument, NULL, O_MAXEVAL },
@@ -129,7 +139,8 @@ static struct opts parse(int argc, char **argv)
 	int li;
 	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
 		if (sweep_opt == NULL && (c == O_STEP || c == O_RANGE || c == O_LMIN || c == O_NOBACK ||
-		                          c == O_PRED || c == O_ALGO || c == O_MAXEVAL || c == O_NOPC))
+		                          c == O_PRED || c == O_ALGO || c == O_MAXEVAL || c == O_NOPC ||
+		                          c == O_T1))
 			sweep_opt = lo[li].name;
 		if (leg_opt == NULL && (c == O_RANGE || c == O_NOBACK || c == O_PRED))
 			leg_opt = lo[li].name;
@@ -147,6 +158,7 @@ static struct opts parse(int argc, char **argv)
 		case O_LMIN: o.fl.lmin = cli_double_range("--lmin", optarg, 1e-9, 100); break;
 		case O_NOBACK: o.fl.back = 0; break;
 		case O_PRED: o.fl.predict = (int)cli_long("--predict", optarg, 0, FL_MAXPREDICT); break;
+		case O_T1: o.fl.t1 = cli_double_range("--t1", optarg, 1e-6, 0.5); break;
 		case O_TOL: o.fl.min.ftol = cli_double_range("--tol", optarg, 1e-16, 1e3); break;
 		case O_ALGO:
 			if (!min_algo_parse(optarg, &o.fl.min.algo))
@@ -190,6 +202,8 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("--max-memory is for --linear: the sweeps need no dense work");
 	if (o.method_opt && !o.linear)
 		cli_usage_error("--linear-method is for --linear");
+	if (o.fl.t1 > 0 && !(o.fl.t1_new < o.fl.t1))
+		cli_usage_error("--t1 must be longer than a new junction (%g)", o.fl.t1_new);
 	if (o.fl.range / o.fl.step > 1e6)
 		cli_usage_error("--range/--step: more than 1e6 points per leg");
 	if (argc - optind > 1)
@@ -279,8 +293,8 @@ int main(int argc, char **argv)
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;
-	int nmesh = 0, badpoints = 0, allpoints = 0, written = 0, asked = 0, header = 0, badbar = 0;
-	double worst = 0;
+	int nmesh = 0, allpoints = 0, written = 0, asked = 0, header = 0, badbar = 0;
+	int nstatus[FL_NSTATUS] = { 0 };
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		nmesh++;
 		mesh_error he;
@@ -361,10 +375,9 @@ int main(int argc, char **argv)
 			cli_die(EXIT_INPUT, "%s", err.msg);
 		written += r.written;
 		asked += count;
-		badpoints += r.missed;
 		allpoints += r.points;
-		if (!(r.worst <= worst))
-			worst = r.worst;
+		for (int k = 0; k < FL_NSTATUS; k++)
+			nstatus[k] += r.nstatus[k];
 		free(sel);
 		mesh_free(m);
 	}
@@ -385,8 +398,14 @@ int main(int argc, char **argv)
 		cli_no_mesh(o.input);
 	if (badbar)
 		cli_finish_status(EXIT_NOCONV, "%d barriers not whole (status not ok)", badbar);
-	if (badpoints)
-		cli_finish_status(EXIT_NOCONV, "%d of %d points missed the force tolerance %g "
-		                  "(worst %.3g)", badpoints, allpoints, o.fl.min.ftol, worst);
+	if (nstatus[FL_NOMIN])
+		cli_warn("%d of %d points have no minimum at the input's topology (a junction ran to "
+		         "zero length): %s", nstatus[FL_NOMIN], allpoints,
+		         o.fl.t1 > 0 ? "no T1 could resolve them" :
+		         "their legs end there (--t1 L carries the sweeps through a T1)");
+	if (nstatus[FL_NOCONV])
+		cli_finish_status(EXIT_NOCONV, "%d of %d points did not converge to the force "
+		                  "tolerance %g (status not-converged)", nstatus[FL_NOCONV], allpoints,
+		                  o.fl.min.ftol);
 	cli_finish();
 }

@@ -1,6 +1,7 @@
 /* fit_table.c - the f(l) table as curves, and the summary groups
  * (fit_table.h). */
 #include "fit_table.h"
+#include "forcelen.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -15,7 +16,7 @@ void fit_cols_find(const table_reader *r, fit_cols *c)
 		.a = table_header_col(r, "a"), .b = table_header_col(r, "b"),
 		.l0 = table_header_col(r, "l0"), .dir = table_header_col(r, "dir"),
 		.l = table_header_col(r, "l"), .f = table_header_col(r, "f"),
-		.fres = table_header_col(r, "fres"),
+		.fres = table_header_col(r, "fres"), .status = table_header_col(r, "status"),
 	};
 }
 
@@ -58,6 +59,11 @@ int fit_point_read(const table_reader *r, const fit_cols *c, fit_point *pt, mesh
 	else
 		return mesh_error_set(err, table_line(r), MESH_EINVAL,
 		                      "column dir: expected rest, out or back, got '%s'", dir);
+	pt->status = FL_OK;
+	if (c->status >= 0 && (pt->status = fl_status_parse(table_field(r, c->status))) < 0)
+		return mesh_error_set(err, table_line(r), MESH_EINVAL,
+		                      "column status: expected ok, no-minimum, not-converged or "
+		                      "plastic, got '%s'", table_field(r, c->status));
 	return MESH_OK;
 }
 

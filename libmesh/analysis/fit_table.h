@@ -8,8 +8,8 @@
 #include "fit.h"
 #include "table.h"
 
-/* The columns a header must name: p0 j l0 dir l f.  a, b and fres may be
- * missing. */
+/* The columns a header must name: p0 j l0 dir l f.  a, b, fres and
+ * status may be missing. */
 #define FIT_TABLE_NNEED 6
 extern const char *const fit_table_need[FIT_TABLE_NNEED];
 
@@ -22,22 +22,25 @@ typedef enum { FIT_BRANCH_OUT, FIT_BRANCH_BACK, FIT_BRANCH_ALL } fit_branch;
 
 /* Column positions in the last header (table_header_col), -1 if absent. */
 typedef struct {
-	int p0, j, a, b, l0, dir, l, f, fres;
+	int p0, j, a, b, l0, dir, l, f, fres, status;
 } fit_cols;
 void fit_cols_find(const table_reader *r, fit_cols *c);
 
-/* One row.  a, b: -1 without those columns.  fres is not read here
+/* One row.  a, b: -1 without those columns; status the point's enum
+ * fl_status (forcelen.h), FL_OK without that column (tables written
+ * before it: every point counted as a result).  fres is not read here
  * (table_number on column fres, where there is one). */
 typedef struct {
 	double p0, l0, l, f;
 	long j, a, b;
 	fit_dir dir;
+	int status;
 } fit_point;
 
 /* The row table_next just gave as a point: p0, j, l0, l, f finite
  * numbers, j a junction index and a, b vertex ids (whole numbers in
- * [0, 2e9]), dir one of rest, out, back.  MESH_EINVAL with the line and
- * the column otherwise. */
+ * [0, 2e9]), dir one of rest, out, back, status a name of
+ * fl_status_name.  MESH_EINVAL with the line and the column otherwise. */
 int fit_point_read(const table_reader *r, const fit_cols *c, fit_point *pt, mesh_error *err);
 
 /* Whether a fit on branch b uses a point of direction d. */

@@ -38,6 +38,27 @@ enum fl_dir {
 /* Name of a direction: "rest", "out", "back". */
 const char *fl_dir_name(int dir);
 
+/* How a point of a sweep ended (column status of the table):
+ *   FL_OK       "ok": a constrained minimum, residual force within the
+ *               tolerance: a result.
+ *   FL_NOMIN    "no-minimum": a junction ran to zero length (below
+ *               RELAX_COLLAPSE, relax.h) on the way: at this topology
+ *               there is no minimum at this held length, only a T1 would
+ *               resolve it.  The leg ends with this point (its return leg
+ *               starts from the last result), jzero names the junction.
+ *   FL_NOCONV   "not-converged": the minimizer stopped short of the
+ *               tolerance (budget, stall); the leg goes on from the last
+ *               result.
+ *   FL_PLASTIC  "plastic": a result of a leg that went through a T1
+ *               (fl_opts.t1): the tissue's topology is no longer the
+ *               input's, so f(l) there is not the elastic response; jzero
+ *               names the junction last flipped.
+ * Only FL_OK and FL_PLASTIC are results. */
+enum fl_status { FL_OK, FL_NOMIN, FL_NOCONV, FL_PLASTIC, FL_NSTATUS };
+/* Name of a status, and back (-1 for an unknown name). */
+const char *fl_status_name(int st);
+int fl_status_parse(const char *name);
+
 #define FL_MAXPREDICT 4
 
 typedef struct {
@@ -50,11 +71,24 @@ typedef struct {
 	                      last point itself, 1 linear, 2 quadratic, up to
 	                      FL_MAXPREDICT (4, the default); a warm start
 	                      either way */
+	double t1;         /* > 0: the T1 threshold of a plastic sweep: a
+	                      junction (not the held one) that ends a point
+	                      shorter than this, or runs to zero length on the
+	                      way, is flipped (topology.h, at most 4 per point;
+	                      a junction a T1 made is flipped back only when it
+	                      runs to zero length) and the point minimized
+	                      again; the side's later points are FL_PLASTIC.
+	                      0 (default): no T1, a leg ends at a point with no
+	                      minimum */
+	double t1_new;     /* length of the junction a T1 makes (1e-3, as the
+	                      dynamics' default) */
 	min_opts min;      /* the minimizer of each point; ftol is a force */
 } fl_opts;
 
-/* Defaults as above; min: MIN_NEWTON (with this parametrization's exact
- * Hessian-vector product), ftol 1e-10, else as min_opts_init.  With
+/* Defaults as above; min: MIN_AUTO (fl_auto_algo: Newton-CG, or the
+ * Levenberg-Marquardt methods where the tissue is floppy, with this
+ * parametrization's exact Hessian-vector product), ftol 1e-10, else as
+ * min_opts_init.  With
  * min.precond (the default) CG is preconditioned by a shifted sparse
  * Cholesky factorization of the exact Hessian in the sweep's variables,
  * built at the rest state and rebuilt only when CG needs more than
@@ -75,7 +109,9 @@ typedef struct {
 	long neval;        /* energy evaluations and Hessian-vector products */
 	long npc;          /* preconditioner builds (factorizations) */
 	int dir;           /* enum fl_dir */
-	int status;        /* MESH_OK or MESH_ENOCONV from min_run */
+	int status;        /* enum fl_status */
+	int jzero;         /* FL_NOMIN: the junction that ran to zero length;
+	                      FL_PLASTIC: the last one a T1 flipped; else -1 */
 } fl_point;
 
 /* Work space for sweeps on one mesh (and meshes of the same counts): owns
@@ -86,14 +122,16 @@ typedef struct fl_work fl_work;
 fl_work *fl_work_alloc(const mesh *m);
 void fl_work_free(fl_work *w);
 
-/* Number of points fl_sweep writes for junction j (depends on l0, lmin). */
+/* The most points fl_sweep writes for junction j (depends on l0, lmin;
+ * a leg that ends at a point with no minimum writes fewer). */
 int fl_npoints(const mesh *m, int j, const fl_opts *o);
 
-/* Sweep junction j of m (at m->r, left unchanged) at model p.  pts needs
- * fl_npoints() entries; *npts gets the number written.  Order: rest, the
- * outward leg and its way back, the inward leg and its way back.  Returns
- * MESH_OK, MESH_ENOCONV if some point missed the tolerance (the sweep goes
- * on; each point's status says which), MESH_ENOMEM, MESH_EDOM for bad
+/* Sweep junction j of m (at m->r, left unchanged) at model p with
+ * o->min.algo (MIN_AUTO: MIN_NEWTON; fl_sweeps resolves it per mesh).
+ * pts needs fl_npoints() entries; *npts gets the number written.  Order:
+ * rest, the outward leg and its way back (from its last result), the
+ * inward leg and its way back.  Returns MESH_OK when the sweep ran to its
+ * end, whatever its points' statuses; MESH_ENOMEM, MESH_EDOM for bad
  * options or j.  If stop is not NULL and becomes nonzero, the sweep ends
  * early with MESH_ENOCONV. */
 int fl_sweep(const mesh *m, const model *p, int j, const fl_opts *o,
@@ -119,10 +157,12 @@ int fl_rest(mesh *m, const model *p, double ftol, int relax, fl_rest_report *rr,
 int fl_count_short(const mesh *m, const int *sel, int n, const fl_opts *o);
 
 /* The tables' columns and rows: the points of a curve of junction j of m
- * at p0 (p0 j a b l0 dir l f W fres, l0 at m->r), and the linear response
- * of each of the n junctions sel of the mesh lr was made from (p0 j a b
- * l0 a1 nzero nneg).  Numbers as the suite's tables print them. */
-#define FL_CURVE_COLUMNS "p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres"
+ * at p0 (p0 j a b l0 dir l f W fres status jzero, l0 at m->r, status the
+ * fl_status_name, jzero the point's junction or -1), and the linear
+ * response of each of the n junctions sel of the mesh lr was made from
+ * (p0 j a b l0 a1 nzero nneg).  Numbers as the suite's tables print
+ * them. */
+#define FL_CURVE_COLUMNS "p0\tj\ta\tb\tl0\tdir\tl\tf\tW\tfres\tstatus\tjzero"
 #define FL_LINEAR_COLUMNS "p0\tj\ta\tb\tl0\ta1\tnzero\tnneg"
 void fl_curve_write(FILE *f, double p0, const mesh *m, int j, const fl_point *pts, int n);
 /* fl_linear_write returns how many of the rows it wrote are not sure
@@ -141,13 +181,29 @@ typedef struct {
 	void *data;
 } fl_sweeps_io;
 
-/* What fl_sweeps passed: whole curves, their points, how many of those
- * missed the force tolerance and the largest residual among them (0 if
- * none). */
+/* What fl_sweeps passed: whole curves, their points, how many of each
+ * status (enum fl_status), the largest residual force among the results
+ * (ok and plastic points: within the tolerance by construction) and the
+ * method it chose (fl_auto_algo). */
 typedef struct {
-	int written, points, missed;
+	int written, points;
+	int nstatus[FL_NSTATUS];
 	double worst;
+	min_algo algo;
 } fl_sweeps_result;
+
+/* The method of MIN_AUTO for m at rest at p (o->min.ftol), by its rest
+ * state: where the Hessian has no zero modes beyond the translations
+ * (linresp.h; a rigid tissue) MIN_NEWTON, whose points of a sweep mostly
+ * take one Newton step from the extrapolated start; where it has some
+ * and W is zero to rounding (at most FL_FLOPPY_W per cell: every cell at
+ * its preferred area and perimeter) MIN_GN, whose minimum-norm steps keep
+ * the sweep on a smooth path; where it has some and W > 0 (part of the
+ * tissue rigid, part floppy) MIN_LM.  bench/RESULTS.md, tis-forcelen,
+ * has the measurement.  Where the linear response cannot be computed
+ * (not at rest), by W alone. */
+#define FL_FLOPPY_W 1e-16
+min_algo fl_auto_algo(const mesh *m, const model *p);
 
 #define FL_MAXTHREADS 64
 
@@ -158,9 +214,10 @@ typedef struct {
  * are done: what the caller writes does not depend on the threads, and
  * memory is held for a few curves, not for all.  When *stop (stop may
  * be NULL) becomes nonzero the sweeps end early, and the whole curves after the first
- * unfinished one are passed last.  MESH_OK (points that missed the
- * tolerance, a stop: see r), MESH_ENOMEM, MESH_EIO if io->curve asked to
- * stop, or a sweep's error ("junction J: ..."). */
+ * unfinished one are passed last.  With o->min.algo MIN_AUTO the method
+ * is fl_auto_algo's (r->algo).  MESH_OK (the points' statuses, a stop:
+ * see r), MESH_ENOMEM, MESH_EIO if io->curve asked to stop, or a sweep's
+ * error ("junction J: ..."). */
 int fl_sweeps(const mesh *m, const model *p, const fl_opts *o, const int *sel, int count,
               int threads, const volatile sig_atomic_t *stop, const fl_sweeps_io *io,
               fl_sweeps_result *r, mesh_error *err);

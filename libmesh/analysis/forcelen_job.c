@@ -4,6 +4,8 @@
 #include "forcelen.h"
 #include "measure.h"
 
+#include <math.h>
+
 #include <pthread.h>
 #include <stdlib.h>
 
@@ -33,6 +35,25 @@ int fl_rest(mesh *m, const model *p, double ftol, int relax, fl_rest_report *rr,
 	return MESH_OK;
 }
 
+min_algo fl_auto_algo(const mesh *m, const model *p)
+{
+	energy_ws *ws = energy_ws_alloc(m);
+	if (ws == NULL)
+		return MIN_NEWTON;
+	double W = mesh_energy(m, m->r, p, NULL, ws);
+	energy_ws_free(ws);
+	int floppy0 = W <= FL_FLOPPY_W * m->nc;
+	linresp *lr = NULL;
+	if (linresp_alloc(m, p, 1e-10, 1e-10, INFINITY, &lr, NULL) != MESH_OK)
+		return floppy0 ? MIN_GN : MIN_NEWTON;
+	linresp_info in;
+	linresp_get_info(lr, &in);
+	linresp_free(lr);
+	if (in.nzero == 0)
+		return MIN_NEWTON;
+	return floppy0 ? MIN_GN : MIN_LM;
+}
+
 int fl_count_short(const mesh *m, const int *sel, int n, const fl_opts *o)
 {
 	int nshort = 0;
@@ -46,9 +67,9 @@ void fl_curve_write(FILE *f, double p0, const mesh *m, int j, const fl_point *pt
 	double l0 = junction_length(m, m->r, j);
 	for (int i = 0; i < n; i++) {
 		const fl_point *q = &pts[i];
-		fprintf(f, "%.10g\t%d\t%d\t%d\t%.12g\t%s\t%.12g\t%.12g\t%.15g\t%.3g\n", p0, j,
-		        m->jv[2 * j], m->jv[2 * j + 1], l0, fl_dir_name(q->dir), q->l, q->f, q->W,
-		        q->fres);
+		fprintf(f, "%.10g\t%d\t%d\t%d\t%.12g\t%s\t%.12g\t%.12g\t%.15g\t%.3g\t%s\t%d\n", p0,
+		        j, m->jv[2 * j], m->jv[2 * j + 1], l0, fl_dir_name(q->dir), q->l, q->f, q->W,
+		        q->fres, fl_status_name(q->status), q->jzero);
 	}
 }
 
@@ -90,13 +111,11 @@ struct job {
 	int oom;
 };
 
-/* Whether curve k is finished: swept to its last point.  An interrupted
- * sweep ends early (fewer points): it is never handed out. */
+/* Whether curve k is finished: swept to its end.  An interrupted sweep
+ * (MESH_ENOCONV) is never handed out. */
 static int complete(const struct job *jb, int k)
 {
-	int st = jb->status[k];
-	return (st == MESH_OK || st == MESH_ENOCONV) &&
-	       jb->nres[k] == fl_npoints(jb->m, jb->sel[k], jb->fl);
+	return jb->status[k] == MESH_OK;
 }
 
 static void hand_out(struct job *jb, int k)
@@ -106,11 +125,9 @@ static void hand_out(struct job *jb, int k)
 	for (int i = 0; i < n; i++) {
 		const fl_point *q = &jb->res[k][i];
 		r->points++;
-		if (q->status != MESH_OK) {
-			r->missed++;
-			if (!(q->fres <= r->worst))
-				r->worst = q->fres;
-		}
+		r->nstatus[q->status]++;
+		if ((q->status == FL_OK || q->status == FL_PLASTIC) && !(q->fres <= r->worst))
+			r->worst = q->fres;
 	}
 	if (jb->io->curve && jb->io->curve(jb->io->data, jb->sel[k], jb->res[k], n) != 0)
 		jb->halt = 1;
@@ -179,7 +196,11 @@ int fl_sweeps(const mesh *m, const model *p, const fl_opts *o, const int *sel, i
 {
 	static const fl_sweeps_io none = { 0 };
 	*r = (fl_sweeps_result){ 0 };
-	struct job jb = { .m = m, .p = p, .fl = o, .sel = sel, .count = count, .stop = stop,
+	fl_opts oo = *o;
+	if (oo.min.algo == MIN_AUTO)
+		oo.min.algo = fl_auto_algo(m, p);
+	r->algo = oo.min.algo;
+	struct job jb = { .m = m, .p = p, .fl = &oo, .sel = sel, .count = count, .stop = stop,
 	                  .io = io ? io : &none, .r = r };
 	/* a curve's points are allocated when it is swept and freed once
 	 * handed out: memory for a few curves, not for all of them */

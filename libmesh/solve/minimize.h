@@ -25,6 +25,12 @@ typedef enum {
 	MIN_NEWTON,      /* Newton-CG on Hessian-vector products, force-judged steps */
 	MIN_TNEWTON,     /* NLopt preconditioned truncated Newton with restarts */
 	MIN_VAR2,        /* NLopt shifted limited-memory variable metric, rank 2 */
+	MIN_LM,          /* Levenberg-Marquardt on the Hessian (pcshift): a minimum
+	                    that is not isolated (floppy modes) */
+	MIN_GN,          /* Levenberg-Marquardt on the residuals of a sum of
+	                    squares (gnstep), MIN_LM where they do not go to zero */
+	MIN_AUTO,        /* the problem's choice (tis-forcelen: by the tissue's
+	                    rest state, forcelen.h); min_run: MIN_NEWTON */
 	MIN_NALGO
 } min_algo;
 
@@ -60,9 +66,12 @@ typedef struct min_opts {
 	double ftol;       /* converged when the force measure <= ftol */
 	long maxeval;      /* at most this many objective evaluations */
 	min_gnorm gnorm;   /* NULL: largest vertex force */
-	int polish;        /* when the method stops short of ftol, finish with
-	                      MIN_NEWTON (energy-based line searches stall at
-	                      rounding level; Newton steps judged on forces go on) */
+	int polish;        /* when the method stops short of ftol (not stopped),
+	                      finish with MIN_NEWTON (energy-based line searches
+	                      stall at rounding level; Newton steps judged on
+	                      forces go on), or after MIN_NEWTON with MIN_LM
+	                      (Newton-CG stops at the zero modes of a minimum
+	                      that is not isolated) */
 	min_hessvec hessvec; /* for MIN_NEWTON and the polish; NULL: central
 	                      differences of the gradient (step 1e-5) */
 	/* Preconditioner of the CG inside MIN_NEWTON and the polish (NULL:
@@ -76,6 +85,16 @@ typedef struct min_opts {
 	 * needed more than pcmaxit iterations (M too far from the Hessian). */
 	int (*pcsetup)(const double *x, void *data);
 	int (*pcapply)(const double *r, double *z, void *data);
+	/* MIN_LM: build M = H(x) + shift I exactly (no shift ladder), for
+	 * pcapply; 0, or nonzero when that is not positive definite (no M
+	 * then).  NULL: MIN_LM is MIN_NEWTON. */
+	int (*pcshift)(const double *x, double shift, void *data);
+	/* MIN_GN: the objective is a sum of squares |R(x)|^2; s = the
+	 * Levenberg-Marquardt step -(J^T J + lambda I)^{-1} J^T R at x (J =
+	 * dR/dx), pd[0] = 2 R . J s and pd[1] = |J s|^2 (the model's decrease
+	 * along t s is -(t pd[0] + t^2 pd[1])); 0, or nonzero if it cannot.
+	 * NULL: MIN_GN is MIN_NEWTON. */
+	int (*gnstep)(const double *x, double lambda, double *s, double pd[2], void *data);
 	int pcmaxit;       /* default 6 (bench/RESULTS.md) */
 	volatile sig_atomic_t *stop; /* if not NULL: once *stop is nonzero the
 	                      method stops at its next evaluation and min_run
@@ -121,8 +140,9 @@ typedef struct min_report {
 	double f0, f;      /* initial and final objective */
 	double gnorm;      /* final force measure */
 	long nhessvec;     /* Hessian-vector products (Newton-CG) */
-	long npolish;      /* Newton iterations of the polish (0: not needed) */
+	long npolish;      /* iterations of the polish (0: not needed) */
 	long npcsetup;     /* preconditioner builds (factorizations) */
+	long ngnstep;      /* Gauss-Newton steps (MIN_GN), each a factorization */
 	int stopped;       /* ended early because *stop was set */
 } min_report;
 

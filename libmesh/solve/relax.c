@@ -72,6 +72,7 @@ struct relax_work {
 		spchol_saved *f;
 	} kept[RELAX_NKEPT];
 	int nkept;
+	int nfresh;           /* points still to start with a fresh factor */
 	double pcl;           /* held length where the factor held was built */
 	int pck;              /* its entry in kept, or -1 */
 	/* Held: the last solve, input and output (n each): Newton-CG asks
@@ -79,6 +80,29 @@ struct relax_work {
 	 * which is the same up to sign, bit for bit. */
 	double *sin_, *sout;
 	int svalid;
+	/* Gauss-Newton on the residuals (gn_*): R_2k = sqrt(ka) (A_k - 1),
+	 * R_2k+1 = P_k - p0 (W = |R|^2), J = dR/dx, one slot per distinct
+	 * variable of a cell (both of its rows share them). */
+	struct gn {
+		int m;            /* residuals, 2 nc */
+		int *sp;          /* nc + 1: cell k's slots sp[k] .. sp[k+1] */
+		int *col;         /* per slot: its variable */
+		int *tslot;       /* per corner coordinate (2 per corner): up to
+		                     two (slot, weight code) terms, -1 for none */
+		unsigned char *tw;
+		double *ja, *jp;  /* per slot: the area row's and the perimeter
+		                     row's entry */
+		spsym *k;         /* J J^T + lambda I (m x m) */
+		spchol *ch;
+		int *kpos;        /* per pair of a variable's slots, 4 places in k */
+		int *cptr, *cslot;/* per variable: its slots */
+		long npair;
+		double *R, *y, *e, *js;  /* m each */
+		double *r;        /* held: the coordinates of x */
+		int ok;           /* built for the held junction (or free) */
+		int have;         /* ch holds a factor (of this or an earlier K) */
+		long nfactor;     /* factorizations made */
+	} gn;
 	double prox;          /* min_opts.prox: weight of |x - x0|^2 / 2 */
 	const double *x0;     /* its centre (the mesh's coordinates) */
 	/* The watch: from the lwatch-th evaluation or product on, a junction
@@ -86,10 +110,13 @@ struct relax_work {
 	 * as do the caller's stops. */
 	double lstop;
 	long lwatch, npeval;
+	int jzero;            /* the junction found below lstop, or -1 */
 	volatile sig_atomic_t *ustop;        /* min_opts.stop */
 	const volatile sig_atomic_t *ustop2; /* relax_solve's */
 	volatile sig_atomic_t halt;
 };
+
+static void gn_free(struct gn *g);
 
 static void work_free(relax_work *w)
 {
@@ -121,6 +148,7 @@ static void work_free(relax_work *w)
 		spchol_saved_free(w->kept[k].f);
 	free(w->sin_);
 	free(w->sout);
+	gn_free(&w->gn);
 	free(w);
 }
 
@@ -159,11 +187,13 @@ static void watch(relax_work *w)
 {
 	if ((w->ustop && *w->ustop) || (w->ustop2 && *w->ustop2))
 		w->halt = 1;
-	if (w->lstop > 0 && w->npeval >= w->lwatch) {
+	if (w->lstop > 0 && w->npeval >= w->lwatch && w->jzero < 0) {
 		const double *l = energy_ws_lengths(w->ew);
-		for (int j = 0; j < w->m->nj && !w->halt; j++)
-			if (l[j] < w->lstop)
+		for (int j = 0; j < w->m->nj && w->jzero < 0; j++)
+			if (l[j] < w->lstop) {
 				w->halt = 1;
+				w->jzero = j;
+			}
 	}
 }
 
@@ -517,12 +547,14 @@ static void held_switch(relax_work *w)
 }
 
 /* Builds the preconditioner at x: the shifted factor of the sparse
- * Hessian in the variables.  Free: the first call chooses its kind.
- * Held: M = H_x + shift I, the terms listed by held_pattern plus the
- * curvature -grad_b W . e / l on (s, s) as in hessvec, kept. */
-static int pcsetup(const double *x, void *data)
+ * Hessian in the variables, H_x + shift I with shift the smallest of
+ * spchol_precond's ladder (fixed < 0) or shift = fixed exactly (fixed
+ * >= 0; nonzero when that is not positive definite).  Free: the first
+ * call chooses its kind.  Held: H_x is the terms listed by held_pattern
+ * plus the curvature -grad_b W . e / l on (s, s) as in hessvec, and the
+ * factor is kept. */
+static int build(relax_work *w, const double *x, double fixed)
 {
-	relax_work *w = data;
 	w->have = 0;
 	w->svalid = 0;
 	if (w->held) {
@@ -540,8 +572,13 @@ static int pcsetup(const double *x, void *data)
 		const double *gb = w->pg + 2 * w->b;
 		int at = spsym_find(hx, n - 1, n - 1);
 		hx->val[at] += -(gb[0] * ct + gb[1] * st) / w->l;
-		if (spchol_precond(w->ch, hx, &w->shift) != MESH_OK)
+		if (fixed >= 0) {
+			if (spchol_factor(w->ch, hx, fixed) != MESH_OK)
+				return -1;
+			w->shift = fixed;
+		} else if (spchol_precond(w->ch, hx, &w->shift) != MESH_OK) {
 			return -1;
+		}
 		w->have = 1;
 		w->pcl = w->l;
 		w->pck = -1;
@@ -570,18 +607,34 @@ static int pcsetup(const double *x, void *data)
 			w->kind = MIN_PC_SCHWARZ;
 		}
 	}
+	int st;
 	if (w->kind == MIN_PC_SCHWARZ) {
 		if (w->sw == NULL && (w->sw = make_schwarz(w, x)) == NULL)
 			return -1;
 		if (!(pcschwarz_bytes(w->sw) <= w->pcmem))
 			return -1;
-		if (pcschwarz_precond(w->sw, w->hs->h, &w->shift) != MESH_OK)
-			return -1;
-	} else if (spchol_precond(w->ch, w->hs->h, &w->shift) != MESH_OK) {
-		return -1;
+		st = fixed >= 0 ? pcschwarz_factor(w->sw, w->hs->h, fixed)
+		                : pcschwarz_precond(w->sw, w->hs->h, &w->shift);
+	} else {
+		st = fixed >= 0 ? spchol_factor(w->ch, w->hs->h, fixed)
+		                : spchol_precond(w->ch, w->hs->h, &w->shift);
 	}
+	if (st != MESH_OK)
+		return -1;
+	if (fixed >= 0)
+		w->shift = fixed;
 	w->have = 1;
 	return 0;
+}
+
+static int pcsetup(const double *x, void *data)
+{
+	return build(data, x, -1);
+}
+
+static int pcshift(const double *x, double shift, void *data)
+{
+	return build(data, x, shift);
 }
 
 /* The solve, minus the rigid translation it may pick up (all vertex
@@ -620,17 +673,305 @@ static int pcapply(const double *r, double *z, void *data)
 	return 0;
 }
 
+/* ---- Gauss-Newton on the residuals ---- */
+
+static void gn_free(struct gn *g)
+{
+	free(g->sp);
+	free(g->col);
+	free(g->tslot);
+	free(g->tw);
+	free(g->ja);
+	free(g->jp);
+	spsym_free(g->k);
+	spchol_free(g->ch);
+	free(g->kpos);
+	free(g->cptr);
+	free(g->cslot);
+	free(g->R);
+	free(g->y);
+	free(g->e);
+	free(g->js);
+	free(g->r);
+	*g = (struct gn){ 0 };
+}
+
+/* The variables of r-coordinate i: itself (free) or xmap's (held). */
+static int vmap(const relax_work *w, int i, int X[2], int wt[2])
+{
+	if (!w->held) {
+		X[0] = i;
+		wt[0] = 0;
+		return 1;
+	}
+	return xmap(w, i, X, wt);
+}
+
+/* The slots of every cell, the terms of each corner coordinate, the
+ * pattern of J J^T (cells sharing a variable) and its analysis: once per
+ * topology and held junction. */
+static int gn_pattern(relax_work *w)
+{
+	const mesh *m = w->m;
+	struct gn *g = &w->gn;
+	gn_free(g);
+	int nc = m->nc, ncorner = m->coff[nc], n = w->n;
+	g->m = 2 * nc;
+	g->sp = malloc(((size_t)nc + 1) * sizeof *g->sp);
+	g->col = malloc((3 * (size_t)ncorner + 2) * sizeof *g->col);
+	g->tslot = malloc((4 * (size_t)ncorner + 1) * sizeof *g->tslot);
+	g->tw = malloc((4 * (size_t)ncorner + 1) * sizeof *g->tw);
+	g->R = malloc(((size_t)g->m + 1) * sizeof *g->R);
+	g->y = malloc(((size_t)g->m + 1) * sizeof *g->y);
+	g->e = malloc(((size_t)g->m + 1) * sizeof *g->e);
+	g->js = malloc(((size_t)g->m + 1) * sizeof *g->js);
+	g->r = malloc((2 * (size_t)w->nv + 1) * sizeof *g->r);
+	g->cptr = calloc((size_t)n + 2, sizeof *g->cptr);
+	if (!g->sp || !g->col || !g->tslot || !g->tw || !g->R || !g->y || !g->e || !g->js ||
+	    !g->r || !g->cptr)
+		return MESH_ENOMEM;
+	int ns = 0;
+	for (int k = 0; k < nc; k++) {
+		g->sp[k] = ns;
+		for (int c = m->coff[k]; c < m->coff[k + 1]; c++)
+			for (int d = 0; d < 2; d++) {
+				int X[2], wt[2], nt = vmap(w, 2 * m->cv[c] + d, X, wt);
+				int q = 2 * c + d;
+				g->tslot[2 * q + 1] = -1;
+				for (int t = 0; t < nt; t++) {
+					int sl = g->sp[k];
+					while (sl < ns && g->col[sl] != X[t])
+						sl++;
+					if (sl == ns)
+						g->col[ns++] = X[t];
+					g->tslot[2 * q + t] = sl;
+					g->tw[2 * q + t] = (unsigned char)wt[t];
+				}
+			}
+	}
+	g->sp[nc] = ns;
+	g->ja = malloc(((size_t)ns + 1) * sizeof *g->ja);
+	g->jp = malloc(((size_t)ns + 1) * sizeof *g->jp);
+	g->cslot = malloc(((size_t)ns + 1) * sizeof *g->cslot);
+	int *scell = malloc(((size_t)ns + 1) * sizeof *scell);
+	if (!g->ja || !g->jp || !g->cslot || !scell) {
+		free(scell);
+		return MESH_ENOMEM;
+	}
+	for (int k = 0; k < nc; k++)
+		for (int sl = g->sp[k]; sl < g->sp[k + 1]; sl++)
+			scell[sl] = k;
+	/* each variable's slots, by counting */
+	for (int sl = 0; sl < ns; sl++)
+		g->cptr[g->col[sl] + 1]++;
+	for (int c = 0; c < n; c++)
+		g->cptr[c + 1] += g->cptr[c];
+	int *fill = malloc(((size_t)n + 1) * sizeof *fill);
+	if (fill == NULL) {
+		free(scell);
+		return MESH_ENOMEM;
+	}
+	memcpy(fill, g->cptr, (size_t)n * sizeof *fill);
+	for (int sl = 0; sl < ns; sl++)
+		g->cslot[fill[g->col[sl]]++] = sl;
+	free(fill);
+	long np = 0;
+	for (int c = 0; c < n; c++) {
+		long L = g->cptr[c + 1] - g->cptr[c];
+		np += L * (L + 1) / 2;
+	}
+	g->npair = np;
+	int *ij = malloc((8 * (size_t)np + 2) * sizeof *ij);
+	g->kpos = malloc((4 * (size_t)np + 1) * sizeof *g->kpos);
+	if (ij == NULL || g->kpos == NULL) {
+		free(ij);
+		free(scell);
+		return MESH_ENOMEM;
+	}
+	long q = 0;
+	for (int c = 0; c < n; c++)
+		for (int e = g->cptr[c]; e < g->cptr[c + 1]; e++)
+			for (int f = e; f < g->cptr[c + 1]; f++) {
+				int ke = scell[g->cslot[e]], kf = scell[g->cslot[f]];
+				for (int ab = 0; ab < 4; ab++) {
+					ij[2 * (4 * q + ab)] = 2 * ke + ab / 2;
+					ij[2 * (4 * q + ab) + 1] = 2 * kf + ab % 2;
+				}
+				q++;
+			}
+	g->k = spsym_alloc(g->m, (int)(4 * np), ij);
+	free(ij);
+	if (g->k == NULL) {
+		free(scell);
+		return MESH_ENOMEM;
+	}
+	q = 0;
+	for (int c = 0; c < n; c++)
+		for (int e = g->cptr[c]; e < g->cptr[c + 1]; e++)
+			for (int f = e; f < g->cptr[c + 1]; f++) {
+				int ke = scell[g->cslot[e]], kf = scell[g->cslot[f]];
+				for (int ab = 0; ab < 4; ab++)
+					g->kpos[4 * q + ab] = e == f && ab == 1 ? -1 :
+						spsym_find(g->k, 2 * ke + ab / 2, 2 * kf + ab % 2);
+				q++;
+			}
+	free(scell);
+	if ((g->ch = spchol_analyze(g->k)) == NULL)
+		return MESH_ENOMEM;
+	g->ok = 1;
+	return MESH_OK;
+}
+
+/* R and J at x. */
+static void gn_jacobian(relax_work *w, const double *x)
+{
+	const mesh *m = w->m;
+	struct gn *g = &w->gn;
+	const double *r = x;
+	double wt[3] = { 1, 0, 0 };
+	if (w->held) {
+		double t = x[w->n - 1] / w->l;
+		x_to_r(w, x, t, g->r);
+		r = g->r;
+		wt[1] = -sin(t);
+		wt[2] = cos(t);
+	}
+	double ska = sqrt(w->p->ka), p0 = w->p->p0;
+	for (int k = 0; k < m->nc; k++) {
+		int c0 = m->coff[k], nk = m->coff[k + 1] - c0;
+		for (int sl = g->sp[k]; sl < g->sp[k + 1]; sl++)
+			g->ja[sl] = g->jp[sl] = 0;
+		double A = 0, P = 0;
+		for (int i = 0; i < nk; i++) {
+			int cp = c0 + (i + nk - 1) % nk, cc = c0 + i, cn = c0 + (i + 1) % nk;
+			double xp = r[2 * m->cv[cp]] + m->cimg[2 * cp], yp = r[2 * m->cv[cp] + 1] + m->cimg[2 * cp + 1];
+			double xc = r[2 * m->cv[cc]] + m->cimg[2 * cc], yc = r[2 * m->cv[cc] + 1] + m->cimg[2 * cc + 1];
+			double xn = r[2 * m->cv[cn]] + m->cimg[2 * cn], yn = r[2 * m->cv[cn] + 1] + m->cimg[2 * cn + 1];
+			A += 0.5 * (xc * yn - xn * yc);
+			double lp = hypot(xc - xp, yc - yp), ln = hypot(xn - xc, yn - yc);
+			P += ln;
+			double da[2] = { 0.5 * (yn - yp), 0.5 * (xp - xn) };
+			double dp[2] = { (xc - xp) / lp - (xn - xc) / ln, (yc - yp) / lp - (yn - yc) / ln };
+			for (int d = 0; d < 2; d++) {
+				int q = 2 * cc + d;
+				for (int t = 0; t < 2; t++) {
+					int sl = g->tslot[2 * q + t];
+					if (sl < 0)
+						continue;
+					double u = wt[g->tw[2 * q + t]];
+					g->ja[sl] += ska * da[d] * u;
+					g->jp[sl] += dp[d] * u;
+				}
+			}
+		}
+		g->R[2 * k] = ska * (A - 1);
+		g->R[2 * k + 1] = P - p0;
+	}
+}
+
+/* y = (J J^T + lambda I)^{-1} R by iterative refinement against the
+ * matrix itself with the factor held, which solves in single precision
+ * and may be of an earlier matrix (the last point's: a sweep's J changes
+ * little from point to point).  With a stale factor, 0 only when the
+ * corrections contract to 1e-12 of y within GN_REFINE rounds; with a
+ * fresh one, the best it gets. */
+#define GN_REFINE 8
+static int gn_solve(struct gn *g, int fresh)
+{
+	spchol_solve(g->ch, g->R, g->y);
+	double prev = HUGE_VAL;
+	for (int it = 0; it < GN_REFINE; it++) {
+		spsym_mulvec(g->k, g->y, g->e);
+		for (int i = 0; i < g->m; i++)
+			g->e[i] = g->R[i] - g->e[i];
+		spchol_solve(g->ch, g->e, g->e);
+		double de = 0, yy = 0;
+		for (int i = 0; i < g->m; i++) {
+			g->y[i] += g->e[i];
+			de += g->e[i] * g->e[i];
+			yy += g->y[i] * g->y[i];
+		}
+		if (de <= 1e-24 * yy)
+			return 0;
+		if (!(de < 0.25 * prev))
+			return fresh ? 0 : -1;
+		prev = de;
+	}
+	return fresh ? 0 : -1;
+}
+
+/* The Levenberg-Marquardt step of W = |R|^2 at x: s = -(J^T J + lambda
+ * I)^{-1} J^T R = -J^T (J J^T + lambda I)^{-1} R (the m x m form: 2 nc
+ * residuals against 2 nv variables), and the model's terms pd[0] = 2 R.Js,
+ * pd[1] = |J s|^2.  0, or nonzero when J J^T + lambda I is not
+ * numerically positive definite. */
+static int gnstep(const double *x, double lambda, double *s, double pd[2], void *data)
+{
+	relax_work *w = data;
+	struct gn *g = &w->gn;
+	if (!g->ok && gn_pattern(w) != MESH_OK)
+		return -1;
+	gn_jacobian(w, x);
+	spsym_zero(g->k);
+	long q = 0;
+	for (int c = 0; c < w->n; c++)
+		for (int e = g->cptr[c]; e < g->cptr[c + 1]; e++) {
+			int se = g->cslot[e];
+			for (int f = e; f < g->cptr[c + 1]; f++, q++) {
+				int sf = g->cslot[f];
+				double je[2] = { g->ja[se], g->jp[se] }, jf[2] = { g->ja[sf], g->jp[sf] };
+				for (int ab = 0; ab < 4; ab++)
+					if (g->kpos[4 * q + ab] >= 0)
+						g->k->val[g->kpos[4 * q + ab]] += je[ab / 2] * jf[ab % 2];
+			}
+		}
+	/* lambda at least 1e-10 of the largest diagonal entry: where J J^T
+	 * turns singular (the held length at the end of the tissue's floppy
+	 * range) the solves stay accurate */
+	double floor = 1e-10 * spsym_diagmax(g->k);
+	for (int i = 0; i < g->m; i++)
+		g->k->val[g->k->colp[i]] += fmax(lambda, floor);
+	if (!g->have || gn_solve(g, 0) != 0) {
+		g->have = 0;
+		g->nfactor++;
+		if (spchol_factor(g->ch, g->k, 0) != MESH_OK)
+			return -1;
+		g->have = 1;
+		gn_solve(g, 1);
+	}
+	memset(s, 0, (size_t)w->n * sizeof *s);
+	for (int k = 0; k < g->m / 2; k++)
+		for (int sl = g->sp[k]; sl < g->sp[k + 1]; sl++)
+			s[g->col[sl]] -= g->ja[sl] * g->y[2 * k] + g->jp[sl] * g->y[2 * k + 1];
+	double rjs = 0, jss = 0;
+	for (int k = 0; k < g->m / 2; k++) {
+		double a = 0, b = 0;
+		for (int sl = g->sp[k]; sl < g->sp[k + 1]; sl++) {
+			a += g->ja[sl] * s[g->col[sl]];
+			b += g->jp[sl] * s[g->col[sl]];
+		}
+		rjs += g->R[2 * k] * a + g->R[2 * k + 1] * b;
+		jss += a * a + b * b;
+	}
+	pd[0] = 2 * rjs;
+	pd[1] = jss;
+	return 0;
+}
+
 /* The adapter's part of o for min_run. */
 static void adapt(relax_work *w, min_opts *mo)
 {
 	mo->gnorm = w->held ? held_gnorm : NULL;
 	mo->hessvec = hessvec;
 	mo->pcsetup = pcsetup;
+	mo->pcshift = pcshift;
+	mo->gnstep = gnstep;
 	mo->pcapply = pcapply;
 	w->ustop = mo->stop;
 	mo->stop = &w->halt;
 	w->halt = 0;
 	w->npeval = 0;
+	w->jzero = -1;
 }
 
 /* ---- all vertices free ---- */
@@ -670,7 +1011,7 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 			w->threads = oo.threads;
 	}
 	if (!oo.precond)
-		oo.pcsetup = NULL, oo.pcapply = NULL;
+		oo.pcsetup = NULL, oo.pcshift = NULL, oo.pcapply = NULL;
 	double *x = malloc(2 * (size_t)m->nv * sizeof *x);
 	/* without it: prepared at every product */
 	w->hx = malloc(2 * (size_t)m->nv * sizeof *w->hx);
@@ -697,6 +1038,8 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 }
 
 /* ---- one junction's length held ---- */
+
+#define RELAX_NFRESH 4
 
 relax_work *relax_work_alloc(const mesh *m)
 {
@@ -726,6 +1069,19 @@ relax_work *relax_work_alloc(const mesh *m)
 }
 
 int relax_nvar(const relax_work *w) { return w->n; }
+
+void relax_coords(const relax_work *w, double *r)
+{
+	x_to_r(w, w->x, w->x[w->n - 1], r);
+}
+
+double relax_energy(relax_work *w)
+{
+	w->evalid = 0;
+	w->hvalid = 0;
+	x_to_r(w, w->x, w->x[w->n - 1], w->r);
+	return mesh_energy(w->m, w->r, w->p, w->g, w->ew);
+}
 double *relax_x(relax_work *w) { return w->x; }
 double relax_length(const relax_work *w) { return w->l; }
 void relax_set_length(relax_work *w, double l) { w->l = l; }
@@ -761,6 +1117,7 @@ int relax_hold(relax_work *w, const mesh *m, const model *p, int j, const min_op
 	w->pck = -1;
 	w->hvalid = 0;
 	w->evalid = 0;
+	w->gn.ok = 0;
 	if (o->precond) {
 		/* The topology may differ from the last junction's (same
 		 * counts): patterns are made afresh.  A sweep reuses one
@@ -785,13 +1142,14 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 	min_opts mo = *o;
 	adapt(w, &mo);
 	if (!mo.precond)
-		mo.pcsetup = NULL, mo.pcapply = NULL;
+		mo.pcsetup = NULL, mo.pcshift = NULL, mo.pcapply = NULL;
 	w->ustop2 = stop;
 	w->lstop = RELAX_COLLAPSE;
 	w->lwatch = RELAX_WATCH;
 	w->hvalid = 0;
 	w->evalid = 0;  /* the objective depends on w->l */
 	min_report rep;
+	int stale = w->have;
 	w->x[n - 1] *= w->l;
 	int st = min_run(n, w->x, objective, w, &mo, &rep);
 	if (st == MESH_ENOMEM || st == MESH_EDOM)
@@ -807,16 +1165,29 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 	pt->f = (g[2 * a] - g[2 * b]) * cos(t) + (g[2 * a + 1] - g[2 * b + 1]) * sin(t);
 	pt->W = W;
 	pt->fres = fres;
-	pt->neval = rep.neval + rep.nhessvec + 1;
-	pt->npc = rep.npcsetup;
-	pt->status = fres <= o->ftol ? MESH_OK : MESH_ENOCONV;
+	pt->neval = rep.neval + rep.nhessvec + rep.ngnstep + 1;
+	pt->npc = rep.npcsetup + rep.ngnstep;
+	pt->status = fres <= o->ftol ? RELAX_OK : w->jzero >= 0 ? RELAX_NOMIN : RELAX_NOCONV;
+	pt->jzero = pt->status == RELAX_NOMIN ? w->jzero : -1;
 	/* A point that converged in one Newton step ends before min_run's
 	 * own rebuild (at its next step) however long CG took, and the
 	 * factor would only age: rebuild it here, at this solution, for the
 	 * next point when CG took more than pcmaxit products (bench/
 	 * RESULTS.md: with the quartic predictor most points take a single
 	 * step). */
-	if (mo.precond && pt->status == MESH_OK && rep.nhessvec > o->pcmaxit) {
+	if (mo.algo == MIN_LM) {
+		/* a point that started with the factor held and had to build
+		 * one: the next RELAX_NFRESH start with a fresh one (in a floppy
+		 * tissue an earlier point's factor is a poor preconditioner of
+		 * Levenberg-Marquardt's small shifts) */
+		if (stale && rep.npcsetup > 0)
+			w->nfresh = RELAX_NFRESH;
+		if (w->nfresh > 0) {
+			w->nfresh--;
+			w->have = 0;
+		}
+	}
+	if (mo.precond && mo.algo != MIN_LM && pt->status == RELAX_OK && rep.nhessvec > o->pcmaxit) {
 		pcsetup(w->x, w);
 		pt->npc++;
 	}

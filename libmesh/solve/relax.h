@@ -87,6 +87,8 @@ int relax_hold(relax_work *w, const mesh *m, const model *p, int j,
 int relax_nvar(const relax_work *w);
 double *relax_x(relax_work *w);
 double relax_length(const relax_work *w);
+/* W at the variables in hand (angle slot t) and the held length. */
+double relax_energy(relax_work *w);
 /* Hold length l from now on (the variables unchanged: the angle kept). */
 void relax_set_length(relax_work *w, double l);
 /* Hold length l, r_a moved back along the junction by dl / 2 (dl the
@@ -105,20 +107,34 @@ void relax_slide(relax_work *w, double l, double dl);
 #define RELAX_COLLAPSE 1e-6
 #define RELAX_WATCH 500
 
+/* How a point ended: at a minimum (the residual force within
+ * min_opts.ftol), short of it (the budget spent, or the method stalled),
+ * or with a junction run below RELAX_COLLAPSE (no minimum at this
+ * topology, whatever the residual). */
+enum relax_status { RELAX_OK, RELAX_NOCONV, RELAX_NOMIN };
+
 /* One constrained minimum. */
 typedef struct {
 	double l;          /* held length */
 	double f;          /* restoring force (grad_a W - grad_b W) . e */
 	double W;          /* energy at the constrained minimum */
 	double fres;       /* residual force of the constrained minimization */
-	long neval;        /* energy evaluations and Hessian-vector products */
+	long neval;        /* energy evaluations, Hessian-vector products and
+	                      Gauss-Newton steps */
 	long npc;          /* preconditioner builds (factorizations) */
-	int status;        /* MESH_OK (fres <= o->ftol) or MESH_ENOCONV */
+	int status;        /* enum relax_status */
+	int jzero;         /* RELAX_NOMIN: the junction that ran to zero
+	                      length (the first found), else -1 */
 } relax_point;
 
+/* The full coordinates (2 nv) of the variables in hand (angle slot t). */
+void relax_coords(const relax_work *w, double *r);
+
 /* Minimize W at the held length from relax_x (warm start) with o (its
- * gnorm, hessvec, pcsetup and pcapply are the adapter's), the variables
- * left at the result.  Before it, the kept factor built nearest the held
+ * gnorm, hessvec, pcsetup, pcshift, pcapply and gnstep are the
+ * adapter's; o->algo MIN_GN minimizes W as the sum of squares of the
+ * cells' residuals sqrt(ka) (A - 1) and P - p0), the variables left at
+ * the result.  Before it, the kept factor built nearest the held
  * length replaces the one held, if that is nearer.  If o->stop (or stop)
  * becomes nonzero the point ends early (MESH_ENOCONV).  MESH_OK with the
  * point in pt (whatever its status), MESH_ENOMEM, MESH_EDOM. */
