@@ -95,6 +95,7 @@ struct fl_work {
 	relax_work *rw;
 	int nv, nj, n;
 	mesh *mt;             /* after a T1: the sweep's own copy of the mesh */
+	int nt1;              /* T1s in the last sweep */
 	unsigned char *made;  /* nj: junctions a T1 of this sweep made */
 	double *r;            /* 2 nv: full coordinates */
 	double *xrest;        /* the rest state's solution */
@@ -127,6 +128,13 @@ fl_work *fl_work_alloc(const mesh *m)
 		return NULL;
 	}
 	return w;
+}
+
+const mesh *fl_work_mesh(const fl_work *w, int *nt1)
+{
+	if (nt1)
+		*nt1 = w->nt1;
+	return w->nt1 > 0 ? w->mt : NULL;
 }
 
 void fl_work_free(fl_work *w)
@@ -291,6 +299,7 @@ static int flip(sweep *sw, int jt, double l)
 	if (st != MESH_OK)
 		return st;
 	sw->cur = w->mt;
+	w->nt1++;
 	w->made[jt] = 1;
 	sw->plastic = 1;
 	sw->jt = jt;
@@ -439,6 +448,7 @@ int fl_sweep(const mesh *m, const model *p, int j, const fl_opts *o,
 	sweep sw = { .m = m, .cur = m, .p = p, .j = j, .o = o, .w = w, .stop = stop,
 	             .pts = pts, .jt = -1 };
 	memset(w->made, 0, (size_t)m->nj);
+	w->nt1 = 0;
 	int st = relax_hold(w->rw, m, p, j, &o->min);
 	if (st != MESH_OK)
 		return st;

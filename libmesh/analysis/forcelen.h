@@ -121,6 +121,11 @@ typedef struct {
 typedef struct fl_work fl_work;
 fl_work *fl_work_alloc(const mesh *m);
 void fl_work_free(fl_work *w);
+/* After a sweep with fl_opts.t1: the T1s it made (*nt1, if not NULL)
+ * and the mesh of its last one (the work space's copy, valid until the
+ * next sweep with w; its coordinates the state the T1 was made at, its
+ * topology the T1'd one), or NULL when it made none. */
+const mesh *fl_work_mesh(const fl_work *w, int *nt1);
 
 /* The most points fl_sweep writes for junction j (depends on l0, lmin;
  * a leg that ends at a point with no minimum writes fewer). */
