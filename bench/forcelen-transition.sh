@@ -6,10 +6,12 @@
 # status and the largest residual force of the ok points.  The old code
 # (OLD=DIR, its bin/) takes about 1.6 CPU hours per sample at floppy p0,
 # so it is measured on a seeded random subset (--random OLDK --seed 1,
-# default 20) of the same meshes; the new code on all 972 (--all) and on
-# the same subset.  One row per (sample, p0, code, selection) into
-# $OUT/transition.tsv (resumable: rows already there are not run again);
-# runs go two at a time (JOBS), each at nice 10.
+# default 20) of the same meshes; the new code on all 972 (NEWSEL=all,
+# the default, or --random NEWSEL --seed 1) and on the old code's subset.
+# One row per (sample, p0, code, selection) into $OUT/transition.tsv
+# (resumable: rows already there are not run again); JOBS runs at a time
+# (default 1: the CPU seconds of a run on a shared machine are its own),
+# each at nice 10.
 #
 #   P0="3.60 3.70" SAMPLES="1 2" OLD=/path/to/old/bin sh bench/forcelen-transition.sh
 #
@@ -23,7 +25,8 @@ P0=${P0:-"3.60 3.70 3.75 3.80 3.83 3.86 3.90 3.95"}
 SAMPLES=${SAMPLES:-"1 2 3 4 5"}
 OUT=${OUT:-$top/bench/out/transition}
 OLDK=${OLDK:-20}
-JOBS=${JOBS:-2}
+JOBS=${JOBS:-1}
+NEWSEL=${NEWSEL:-all}
 NEW=${NEW:-$top/bin}
 mkdir -p "$OUT"
 res=$OUT/transition.tsv
@@ -66,9 +69,8 @@ done
 # the jobs, JOBS at a time: new --all, new subset, old subset
 for s in $SAMPLES; do
 	for p in $P0; do
-		echo "$s $p new all"
-		echo "$s $p new $OLDK"
-		if [ -n "${OLD:-}" ]; then echo "$s $p old $OLDK"; fi
+		echo "$s $p new $NEWSEL"
+		if [ -n "${OLD:-}" ]; then echo "$s $p new $OLDK"; echo "$s $p old $OLDK"; fi
 	done
 done | xargs -P "$JOBS" -n 4 sh "$0" run
 cat "$res"
