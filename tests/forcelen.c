@@ -3,7 +3,8 @@
  * the relaxed energy and against the exact linear response, no hysteresis
  * on a stable honeycomb, the same curve from two minimizers, a junction
  * across the periodic boundary, point counts, bad arguments; the sparse
- * linear response (ldl, linresp) against the dense one. */
+ * linear response (ldl, linresp) against the dense one; the mesh a plastic
+ * sweep leaves in a floppy tissue. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -120,10 +121,78 @@ static void sparse_checks(const mesh *m, const model *p, const model *saddle)
 	   "linresp: over max_bytes is MESH_ETOOBIG ('%s')", err.msg);
 }
 
+/* A plastic sweep (fl_opts.t1) in a floppy tissue: disordered-1 at rest
+ * at p0 3.90, junction 229, whose stretching drives its neighbour 216 to
+ * zero length (tests/forcelen-floppy.sh).  The mesh of the sweep's last T1
+ * (fl_work_mesh) is a valid tissue: it passes the writer's check, reads
+ * back through mesh_read as tis-info reads it, with the input's counts
+ * and another topology; a sweep without t1 made none. */
+static void plastic_mesh(void)
+{
+	mesh_error err;
+	mesh *d = NULL;
+	long line = 0;
+	FILE *f = fopen("samples/disordered-1.mesh", "r");
+	int rd = f ? mesh_read(f, &line, &d, &err) : MESH_EIO;
+	if (f)
+		fclose(f);
+	ok(rd == MESH_OK, "disordered-1 read from samples/");
+	if (rd != MESH_OK) {
+		for (int i = 0; i < 5; i++)
+			ok(0, "(no mesh)");
+		return;
+	}
+	model p = model_from_mesh(d);
+	p.p0 = 3.90;
+	fl_rest_report rr;
+	fl_rest(d, &p, 1e-10, 1, &rr, &err);
+	fl_opts o;
+	fl_opts_init(&o);
+	o.min.algo = fl_auto_algo(d, &p);
+	o.back = 0;
+	fl_work *w = fl_work_alloc(d);
+	fl_point *pts = malloc((size_t)fl_npoints(d, 229, &o) * sizeof *pts);
+	int n, nt1 = -1, nplastic = 0, nomin = 0;
+	int st = fl_sweep(d, &p, 229, &o, w, pts, &n, NULL);
+	for (int i = 0; i < n; i++)
+		nomin += pts[i].status == FL_NOMIN && pts[i].jzero == 216;
+	ok(st == MESH_OK && nomin == 1 && fl_work_mesh(w, &nt1) == NULL && nt1 == 0,
+	   "without t1: the leg ends at junction 216's collapse, no T1, no mesh");
+	o.t1 = 0.05;
+	st = fl_sweep(d, &p, 229, &o, w, pts, &n, NULL);
+	for (int i = 0; i < n; i++)
+		nplastic += pts[i].status == FL_PLASTIC;
+	const mesh *mt = fl_work_mesh(w, &nt1);
+	ok(st == MESH_OK && mt != NULL && nt1 > 0 && nplastic > 0,
+	   "with t1 0.05: %d T1s, %d plastic points", nt1, nplastic);
+	ok(mt && mesh_write_check(mt, &err) == MESH_OK, "the T1'd mesh passes the writer's check");
+	mesh *back = NULL;
+	FILE *tf = tmpfile();
+	int rb = MESH_EIO;
+	if (tf && mt && mesh_write(tf, mt) == MESH_OK) {
+		rewind(tf);
+		line = 0;
+		rb = mesh_read(tf, &line, &back, &err);
+	}
+	if (tf)
+		fclose(tf);
+	ok(rb == MESH_OK && back->nv == d->nv && back->nc == d->nc && back->nj == d->nj,
+	   "and reads back as a tissue with the input's counts (%s)", rb == MESH_OK ? "ok" : err.msg);
+	int differ = 0;
+	for (int k = 0; mt && k < d->nc; k++)
+		differ += mt->coff[k + 1] - mt->coff[k] != d->coff[k + 1] - d->coff[k];
+	ok(differ > 0, "another topology: %d cells changed their number of sides", differ);
+	if (back)
+		mesh_free(back);
+	free(pts);
+	fl_work_free(w);
+	mesh_free(d);
+}
+
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(32);
+	tap_plan(38);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 6, &m, &err);
@@ -309,6 +378,7 @@ int main(void)
 	fl_linear_free(lr);
 
 	sparse_checks(m, &p, &hi);
+	plastic_mesh();
 
 	/* Bad arguments. */
 	fl_work *w = fl_work_alloc(m);
