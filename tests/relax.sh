@@ -3,7 +3,7 @@
 # keeps params and history, reports on stderr, refuses bad usage, and says
 # honestly when a tolerance cannot be reached (exit 3 only with --strict).
 . "$(dirname "$0")/lib.sh"
-plan 29
+plan 32
 
 tis-hex 6 6 >"$T/hex.mesh"
 # A perturbed copy: displacements up to 0.05 (awk, deterministic).
@@ -55,6 +55,19 @@ fails_with 2 "--maxeval 0" tis-relax --maxeval 0 "$T/pert.mesh"
 fails_with 1 "bad mesh" sh -c "echo 'tismesh 1' | tis-relax"
 fails_with 2 "--precond bogus" tis-relax --precond bogus "$T/pert.mesh"
 fails_with 2 "--block 1" tis-relax --block 1 "$T/pert.mesh"
+
+# Above p_hex a minimum need not be isolated: ordered-12 at p0 3.75 (75
+# zero modes, W > 0) lies in a valley along which W falls by 1e-13 a
+# step; Newton-CG and its polish stop at 1.8e-10 there, the last resort
+# (Levenberg-Marquardt with energies told apart to their rounding) goes
+# on to the tolerance.
+S=$(dirname "$0")/../samples
+ok "ordered-12 at p0 3.75 (above p_hex): converges, exit 0" sh -c \
+	"tis-relax --p0 3.75 '$S/ordered-12.mesh' >'$T/o12.mesh' 2>'$T/o12.err'"
+f=$(tis-info "$T/o12.mesh" | awk '$1 == "max_force" { print $2 }')
+ok "... to max force $f <= 1e-10" awk -v f="$f" 'BEGIN { exit !(f <= 1e-10) }'
+ok "... at a minimum that is not isolated: no negative mode, zero modes (nzero > 0)" sh -c \
+	"tis-forcelen --linear --no-relax --index 0 '$T/o12.mesh' | awk '\$1 == \$1 + 0 { exit !(\$8 == 0 && \$7 > 0) }'"
 
 # The Schwarz preconditioner (patches of 16 vertices, so several) reaches
 # the same minimum as the complete factor.
