@@ -27,6 +27,7 @@ OUT=${OUT:-$top/bench/out/transition}
 OLDK=${OLDK:-20}
 JOBS=${JOBS:-1}
 NEWSEL=${NEWSEL:-all}
+THREADS=${THREADS:-1}
 NEW=${NEW:-$top/bin}
 mkdir -p "$OUT"
 res=$OUT/transition.tsv
@@ -41,7 +42,7 @@ run() {
 	[ "$code" = old ] && bin=$OLD
 	if [ "$sel" = all ]; then args="--all"; else args="--random $sel --seed 1"; fi
 	f=$OUT/d$s-$p-$code-$sel
-	nice -n 10 /usr/bin/time -f '%U %S' -o "$f.time" "$bin/tis-forcelen" $args --threads 1 \
+	nice -n 10 /usr/bin/time -f '%U %S' -o "$f.time" "$bin/tis-forcelen" $args --threads "$THREADS" \
 		"$m" >"$f.tsv" 2>"$f.err" || true
 	cpu=$(awk '{ print $1 + $2 }' "$f.time" | tail -1)
 	awk -F'\t' -v s="$s" -v p="$p" -v code="$code" -v sel="$sel" -v cpu="$cpu" '
