@@ -63,6 +63,8 @@ typedef struct {
 	void *data;
 	const min_opts *o;
 	double f0, slack;
+	double lslack;     /* energies equal to rounding in stage_lm's steps
+	                      and in stalled(): slack, but for last_resort's */
 	long neval, nhv, niter, npolish, npc, ngn;
 	double *g;                    /* gradient for callers that pass none */
 	double *xbest, fbest, gbest;  /* best point seen (see above) */
@@ -376,7 +378,7 @@ static void stage_end(ctx *c, double *xio, const double *x, double f, double gn,
  * whether nmax steps in a row made none. */
 static int stalled(ctx *c, double f, double gn, double *fref, double *gref, int *stall, int nmax)
 {
-	if (gn < 0.5 * *gref || f < *fref - c->slack) {
+	if (gn < 0.5 * *gref || f < *fref - c->lslack) {
 		*gref = gn;
 		*fref = f;
 		*stall = 0;
@@ -666,9 +668,9 @@ static int stage_lm(ctx *c, double *xio)
 		double gnt, ft = eval(c, xt, gt, &gnt);
 		double rho = (f - ft) / (sc * pred);
 		/* energies equal to rounding: the force judges the step */
-		if (sc * pred <= c->slack && ft <= f + c->slack)
+		if (sc * pred <= c->lslack && ft <= f + c->lslack)
 			rho = gnt < gn ? 1 : -1;
-		if (gnt < HUGE_VAL && ((ft < f - c->slack && rho > 1e-4) || (ft <= f + c->slack && gnt < gn))) {
+		if (gnt < HUGE_VAL && ((ft < f - c->lslack && rho > 1e-4) || (ft <= f + c->lslack && gnt < gn))) {
 			it++;
 			/* a stale factor that did not cut the force tenfold is
 			 * rebuilt */
@@ -809,17 +811,19 @@ static min_algo polisher(min_algo a)
  * step lowers W by less than 1e-13, the force judges the steps and none
  * lowers it; there W still falls, by 1e-13 a step, far above its rounding
  * (about 5e-16 at W 0.066), and following it the force meets the
- * tolerance (1.8e-10 -> 9.7e-11, W down another 6e-11).  A run that
+ * tolerance (1.8e-10 -> 9.6e-11, W down another 6e-11).  Only its steps
+ * are judged so: the best point (what a run that still ends short
+ * returns) is judged with the stages' slack, so that an energy that
+ * drifts down by rounding alone never buys a larger force.  A run that
  * converges without it is untouched. */
 #define MIN_TIGHT_SLACK 1e-15
 
 static int last_resort(ctx *c, double *x)
 {
 	end_at_best(c, x);
-	double slack = c->slack;
-	c->slack = MIN_TIGHT_SLACK * (1 + fabs(c->fbest));
+	c->lslack = MIN_TIGHT_SLACK * (1 + fabs(c->fbest));
 	int st = stage_lm(c, x);
-	c->slack = slack;
+	c->lslack = c->slack;
 	return st;
 }
 
@@ -864,6 +868,7 @@ int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
 	if (!isfinite(c.f0))
 		goto out;
 	c.slack = 1e-13 * (1 + fabs(c.f0));
+	c.lslack = c.slack;
 	c.fbest = c.fcur = c.f0;
 	c.gcur = c.gbest;
 	memcpy(c.xbest, x, sz);
