@@ -165,3 +165,14 @@ void cli_history_note(mesh *m, const char *note)
 	strcat(s, note);
 	m->hist[m->nhist - 1] = s;
 }
+
+void cli_refuse_held(mesh *m, const char *path)
+{
+	char why[96];
+	mesh_error he;
+	snprintf(why, sizeof why, "%s does not take them", cli_name);
+	if (mesh_held_none(m, why, &he) == MESH_OK)
+		return;
+	mesh_free(m);
+	cli_die(EXIT_INPUT, "%s: %s", cli_input_name(path), he.msg);
+}

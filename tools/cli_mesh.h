@@ -31,6 +31,10 @@ _Noreturn void cli_no_mesh(const char *path);
 /* Read exactly one mesh; exit 1 if there is none, or if anything but the
  * end of the input follows it (a second mesh, garbage). */
 mesh *cli_read_one(const char *path);
+/* Refuse a mesh with held four-fold vertices (tis-active's hold rule) in
+ * a program that does not take them: m freed, one line naming the input
+ * and the program, exit 1. */
+void cli_refuse_held(mesh *m, const char *path);
 
 /* Write a mesh to stdout and flush it (a record is complete or absent):
  * exit 3 if it would not read back (mesh_write_check), 3 if stdout was

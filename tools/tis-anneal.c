@@ -229,11 +229,7 @@ int main(int argc, char **argv)
 	cli_init("tis-anneal", usage, argc, argv);
 	struct opts o = parse(argc, argv);
 	mesh *m = cli_read_one(o.input);
-	mesh_error he;
-	if (mesh_held_none(m, "tis-anneal does not take them", &he) != MESH_OK) {
-		mesh_free(m);
-		cli_die(EXIT_INPUT, "%s: %s", cli_input_name(o.input), he.msg);
-	}
+	cli_refuse_held(m, o.input);
 	cli_model_set(m, &o.mo);
 	model p = model_from_mesh(m);
 	/* a mesh left by a stopped run continues it (tis(7)) */

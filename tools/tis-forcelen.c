@@ -297,11 +297,7 @@ int main(int argc, char **argv)
 	int nstatus[FL_NSTATUS] = { 0 };
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		nmesh++;
-		mesh_error he;
-		if (mesh_held_none(m, "tis-forcelen does not take them", &he) != MESH_OK) {
-			mesh_free(m);
-			cli_die(EXIT_INPUT, "%s: %s", cli_input_name(o.input), he.msg);
-		}
+		cli_refuse_held(m, o.input);
 		model p = cli_model(m, &o.mo);
 		mesh_error err;
 		/* before the relaxation, the header or anything dense */

@@ -144,11 +144,7 @@ int main(int argc, char **argv)
 	 * written, relaxed as far as it got, and marked */
 	while ((nmesh == 0 || !cli_stop) && cli_read_mesh(f, o.path, &line, &m)) {
 		nmesh++;
-		mesh_error he;
-		if (mesh_held_none(m, "tis-relax does not take them", &he) != MESH_OK) {
-			mesh_free(m);
-			cli_die(EXIT_INPUT, "%s: %s", cli_input_name(o.path), he.msg);
-		}
+		cli_refuse_held(m, o.path);
 		cli_model_set(m, &o.mp);
 		/* the relaxed mesh is a new state: a stopped run's state lines
 		 * and mark no longer describe it, and kept they would make the

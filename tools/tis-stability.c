@@ -233,11 +233,7 @@ int main(int argc, char **argv)
 	int nmesh = 0, unstable = 0, nneg = 0;
 	double p0neg = 0;
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
-		mesh_error he;
-		if (mesh_held_none(m, "tis-stability does not take them", &he) != MESH_OK) {
-			mesh_free(m);
-			cli_die(EXIT_INPUT, "%s: %s", cli_input_name(o.input), he.msg);
-		}
+		cli_refuse_held(m, o.input);
 		model p = cli_model(m, &o.mo);
 		nmesh++;
 		int k = analyse(m, &p, &o);
