@@ -3,11 +3,13 @@
 
 #include <errno.h>
 #include <getopt.h>
+#include <poll.h>
 #include <gsl/gsl_errno.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 const char *cli_name = "tis";
 static const char *cli_usage_line = "";
@@ -120,8 +122,18 @@ void cli_write_error(const char *what)
 static void close_stdout(void)
 {
 	errno = 0;
-	if (fflush(stdout) != 0 || ferror(stdout) || fclose(stdout) != 0)
-		cli_write_error("stdout");
+	if (fflush(stdout) == 0 && !ferror(stdout) && fclose(stdout) == 0)
+		return;
+	/* An earlier printf's write failed and set the stream's error flag,
+	 * and errno has been overwritten since: ask the descriptor whether
+	 * its reader is gone (a pipe's write end polls POLLERR then), so that
+	 * | head still ends quietly, whichever write met it first. */
+	if (errno == 0) {
+		struct pollfd pd = { .fd = STDOUT_FILENO, .events = 0 };
+		if (poll(&pd, 1, 0) == 1 && (pd.revents & POLLERR))
+			errno = EPIPE;
+	}
+	cli_write_error("stdout");
 }
 
 void cli_finish(void)
