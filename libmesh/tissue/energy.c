@@ -222,16 +222,6 @@ const double *energy_ws_lengths(const energy_ws *w)
 	return w->len;
 }
 
-/* (p[0] + p[1], q[0] + q[1]) */
-static inline v2d hsum2(v2d p, v2d q)
-{
-#ifdef __clang__
-	return __builtin_shufflevector(p, q, 0, 2) + __builtin_shufflevector(p, q, 1, 3);
-#else
-	return __builtin_shuffle(p, q, (v2i){ 0, 2 }) + __builtin_shuffle(p, q, (v2i){ 1, 3 });
-#endif
-}
-
 /* (y, x) from (x, y) in one instruction: v2d_swap compiles to a copy and
  * a palignr, pshufd needs no copy (3 instructions less per vertex). */
 static inline v2d swap1(v2d a)
@@ -251,7 +241,7 @@ static inline __attribute__((always_inline)) double gmax2(int nv, const v2d *g)
 	v2d f2 = { 0, 0 };
 	int v = 0;
 	for (; v + 1 < nv; v += 2) {
-		v2d q = hsum2(g[v] * g[v], g[v + 1] * g[v + 1]);
+		v2d q = v2d_hadd(g[v] * g[v], g[v + 1] * g[v + 1]);
 #ifdef __SSE2__
 		f2 = (v2d)_mm_max_pd((__m128d)q, (__m128d)f2);   /* q > f2 ? q : f2 */
 #else
@@ -299,19 +289,6 @@ static inline __attribute__((always_inline)) double gmax4(int nv, const v2d *g)
 		m = q[0] + q[1] > m ? q[0] + q[1] : m;
 	}
 	return m;
-}
-
-/* sqrt without the errno test that <math.h>'s sqrt carries (its operand,
- * a sum of squares, is never negative): 2 instructions less per junction.
- * Two junctions' square roots as one instruction: the same correctly
- * rounded operation in each lane, at the cost of one. */
-static inline v2d sqrt2(v2d x)
-{
-#ifdef __SSE2__
-	return (v2d)_mm_sqrt_pd((__m128d)x);
-#else
-	return (v2d){ sqrt(x[0]), sqrt(x[1]) };
-#endif
 }
 
 /* The pair at byte offset off of base. */
@@ -374,13 +351,13 @@ pass_lengths(const mesh *m, const v2d *r2, energy_ws *w, int j0, int j1, const i
 			vec[j] = d0;
 			vec[j + 1] = d1;
 		}
-		*(v2d *)(len + j) = sqrt2(hsum2(d0 * d0, d1 * d1));
+		*(v2d *)(len + j) = v2d_sqrt(v2d_hadd(d0 * d0, d1 * d1));
 	}
 	if (j < j1) {
 		v2d d = jvec(m, r2, j, form);
 		if (form == 0 || form == 3)
 			vec[j] = d;
-		len[j] = sqrt2(hsum2(d * d, d * d))[0];
+		len[j] = v2d_sqrt(v2d_hadd(d * d, d * d))[0];
 	}
 }
 
@@ -408,11 +385,11 @@ pass_lengths4(const mesh *m, const v2d *r2, energy_ws *w, int j0, int j1, const 
 		vec[j + 1] = d1;
 		vec[j + 2] = d2;
 		vec[j + 3] = d3;
-		v2d q01 = hsum2(d0 * d0, d1 * d1), q23 = hsum2(d2 * d2, d3 * d3);
+		v2d q01 = v2d_hadd(d0 * d0, d1 * d1), q23 = v2d_hadd(d2 * d2, d3 * d3);
 #ifdef __clang__
 		/* clang refuses the builtin where the portable build inlines it */
-		*(v2d *)(len + j) = sqrt2(q01);
-		*(v2d *)(len + j + 2) = sqrt2(q23);
+		*(v2d *)(len + j) = v2d_sqrt(q01);
+		*(v2d *)(len + j + 2) = v2d_sqrt(q23);
 #else
 		*(v4d *)(len + j) = __builtin_ia32_sqrtpd256((v4d){ q01[0], q01[1], q23[0], q23[1] });
 #endif
