@@ -28,6 +28,14 @@ void cli_table_header_run(FILE *f, const mesh *m, const char *cols)
 	cli_table_header(f, &h, cols);
 }
 
+void cli_table_stopped(void)
+{
+	if (!cli_stop)
+		return;
+	printf("# %s interrupted by %s: the table ends early\n", cli_name, cli_stop_name());
+	cli_finish_status(EXIT_NOCONV, "interrupted by %s: the table ends early", cli_stop_name());
+}
+
 int cli_one_d(const char *name)
 {
 	const char *p = strchr(name, '%');

@@ -16,6 +16,11 @@ void cli_table_header(FILE *f, const mesh *m, const char *cols);
  * ends with this program's command line (cli_history): that line is not
  * repeated. */
 void cli_table_header_run(FILE *f, const mesh *m, const char *cols);
+/* A program that writes one table row (or rows) per mesh was told to
+ * stop between meshes: end stdout's table with an 'interrupted by' line
+ * and finish with status 3, the rows of the meshes done being whole.
+ * Returns if the program was not told to stop. */
+void cli_table_stopped(void);
 
 /* An output file for run j of several: its name is pattern with its one
  * "%d" replaced by j (cli_one_d says whether it has that), or pattern

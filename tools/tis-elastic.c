@@ -165,10 +165,7 @@ int main(int argc, char **argv)
 		fclose(in);
 	if (nmesh == 0)
 		cli_no_mesh(o.input);
-	if (cli_stop) {
-		printf("# %s interrupted by %s: the table ends early\n", cli_name, cli_stop_name());
-		cli_finish_status(EXIT_NOCONV, "interrupted by %s: the table ends early", cli_stop_name());
-	}
+	cli_table_stopped();
 	if (missed)
 		cli_finish_status(EXIT_NOCONV, "%d relaxations missed the force tolerance", missed);
 	cli_finish();
