@@ -13,7 +13,8 @@
  *   cli_progress.h  progress lines on a terminal
  *
  * (cli_spawn.h, running a helper program through pipes, is tis-movie's
- * alone and not included here.) */
+ * alone, and cli_rest.h, an input not at rest, that of the programs that
+ * measure at a minimum of W; neither is included here.) */
 #ifndef TIS_CLI_H
 #define TIS_CLI_H
 

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 
 #include "cli.h"
+#include "cli_rest.h"
 #include "elastic.h"
-#include "forcelen.h"
 #include "measure.h"
 
 static const char usage[] =
@@ -87,24 +87,6 @@ static struct opts parse(int argc, char **argv)
 	return o;
 }
 
-/* Bring m to rest at p, or refuse it; 1 if the relaxation missed the
- * tolerance.  *fmax gets the largest vertex force left. */
-static int rest(mesh *m, const model *p, const struct opts *o, double *fmax)
-{
-	fl_rest_report rr;
-	mesh_error err;
-	if (fl_rest(m, p, o->tol, o->relax, &rr, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
-	*fmax = rr.relaxed ? rr.fres : rr.f0;
-	if (!o->relax && rr.f0 > o->tol)
-		cli_die(EXIT_INPUT, "mesh not at rest at p0 %g: max force %.3g > --tol %g (relax it "
-		        "first, or leave out --no-relax)", p->p0, rr.f0, o->tol);
-	if (rr.relaxed)
-		cli_warn("input not at rest at p0 %g (max force %.3g): relaxed to %.3g%s", p->p0, rr.f0,
-		         rr.fres, rr.converged ? "" : ", short of the tolerance");
-	return rr.relaxed && !rr.converged;
-}
-
 int main(int argc, char **argv)
 {
 	cli_init("tis-elastic", usage, argc, argv);
@@ -122,8 +104,10 @@ int main(int argc, char **argv)
 		cli_fits(mesh_memory_check(m, elastic_bytes_min(m), o.max_bytes,
 		                           "the elastic moduli (the hessian and its vectors)", &err),
 		         &err, o.max_memory != NULL);
+		cli_rest_opts ro = { .tol = o.tol, .relax = o.relax, .refuse = 1, .say_short = 1,
+		                     .hint = " (relax it first, or leave out --no-relax)" };
 		double fmax;
-		missed += rest(m, &p, &o, &fmax);
+		missed += cli_rest(m, &p, &ro, &fmax);
 		elastic_result r;
 		int st;
 		if (o.fd > 0) {

@@ -7,6 +7,7 @@
 
 
 #include "cli.h"
+#include "cli_rest.h"
 #include "select.h"
 #include "forcelen.h"
 #include "barrier.h"
@@ -259,18 +260,6 @@ static void progress(void *data, int done, int count)
 		fprintf(stderr, "\r%s: %d/%d curves   ", cli_name, done, count);
 }
 
-/* Bring the mesh to rest at p if it is not, so that l0 is a rest length. */
-static void relax_input(mesh *m, const model *p, const struct opts *o)
-{
-	fl_rest_report rr;
-	mesh_error err;
-	if (fl_rest(m, p, o->fl.min.ftol, o->relax, &rr, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
-	if (rr.relaxed)
-		cli_warn("input not at rest at p0 %g (max force %.3g): relaxed to %.3g%s",
-		         p->p0, rr.f0, rr.fres, rr.converged ? "" : ", short of the tolerance");
-}
-
 /* The sparse method says where its answer may not be the dense cut's:
  * eigenvalues too near the zero cut for its certificate (linresp.h);
  * such a mesh is not at rest or sits at a rigidity transition. */
@@ -304,7 +293,9 @@ int main(int argc, char **argv)
 		if (o.linear)
 			cli_fits(fl_linear_fits_method(m, o.method, o.max_bytes, &err), &err,
 			         o.max_memory != NULL);
-		relax_input(m, &p, &o);
+		/* so that l0 is a rest length; --no-relax measures the mesh as it is */
+		cli_rest_opts ro = { .tol = o.fl.min.ftol, .relax = o.relax, .say_short = 1 };
+		cli_rest(m, &p, &ro, NULL);
 		int count;
 		int *sel = select_junctions(&o, m, &count);
 		/* the header waits for a valid mesh and junction (bad input

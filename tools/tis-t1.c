@@ -4,7 +4,7 @@
 #include <stdlib.h>
 
 #include "cli.h"
-#include "forcelen.h"
+#include "cli_rest.h"
 #include "select.h"
 #include "t1relax.h"
 
@@ -126,15 +126,8 @@ int main(int argc, char **argv)
 		cli_refuse_held(m, o.input);
 		model p = cli_model(m, &o.mo);
 		mesh_error err;
-		fl_rest_report rr;
-		if (fl_rest(m, &p, o.t1.min.ftol, o.relax, &rr, &err) != MESH_OK)
-			cli_die(EXIT_INPUT, "%s", err.msg);
-		if (!o.relax && rr.f0 > o.t1.min.ftol)
-			cli_die(EXIT_INPUT, "mesh not at rest at p0 %g: max force %.3g > --tol %g",
-			        p.p0, rr.f0, o.t1.min.ftol);
-		if (rr.relaxed)
-			cli_warn("input not at rest at p0 %g (max force %.3g): relaxed to %.3g", p.p0, rr.f0,
-			         rr.fres);
+		cli_rest_opts ro = { .tol = o.t1.min.ftol, .relax = o.relax, .refuse = 1 };
+		cli_rest(m, &p, &ro, NULL);
 		int *sel, n;
 		if (junction_select(m, &o.js, &sel, &n, &err) != MESH_OK)
 			cli_die(EXIT_INPUT, "%s", err.msg);
