@@ -1,6 +1,6 @@
 /* tis-movie - a movie of a run: the frames of a mesh stream (tis-active
- * --every) or of a .pvd collection (tis-vtk) drawn by libmesh/draw/raster.c
- * and piped to ffmpeg as raw RGB video. */
+ * --every) or of a .pvd collection (tis-vtk) gathered by libmesh/draw/movie.c,
+ * drawn by raster.c and piped to ffmpeg as raw RGB video. */
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
@@ -12,8 +12,8 @@
 #include "cli.h"
 #include "cli_spawn.h"
 #include "measure.h"
+#include "movie.h"
 #include "raster.h"
-#include "vtk.h"
 
 static const char usage[] =
 	"-o FILE [--format mp4|gif|ppm] [--fps N] [--width PX] [--window W] [--scale S]\n"
@@ -115,63 +115,6 @@ static struct opts parse(int argc, char **argv)
 	return o;
 }
 
-/* The frames: meshes and their times (NAN: none). */
-struct frames {
-	int n, cap;
-	mesh **m;
-	double *t;
-};
-
-static void add(struct frames *fr, mesh *m, double t)
-{
-	if (fr->n == fr->cap) {
-		fr->cap = fr->cap ? 2 * fr->cap : 64;
-		fr->m = realloc(fr->m, (size_t)fr->cap * sizeof *fr->m);
-		fr->t = realloc(fr->t, (size_t)fr->cap * sizeof *fr->t);
-		if (fr->m == NULL || fr->t == NULL)
-			cli_die(EXIT_INPUT, "out of memory");
-	}
-	if (fr->n > 0 && (m->lx != fr->m[0]->lx || m->ly != fr->m[0]->ly))
-		cli_die(EXIT_INPUT, "frame %d: its box differs from the first frame's", fr->n);
-	fr->m[fr->n] = m;
-	fr->t[fr->n++] = t;
-}
-
-/* Every dataset of a .pvd, its file relative to the .pvd's directory. */
-static void read_pvd(const char *path, struct frames *fr)
-{
-	FILE *f = cli_open(path);
-	char **files;
-	double *times;
-	int n;
-	mesh_error err;
-	if (vtk_read_pvd(f, &files, &times, &n, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "%s: %s", path, err.msg);
-	fclose(f);
-	const char *slash = strrchr(path, '/');
-	int dir = slash ? (int)(slash - path) + 1 : 0;
-	for (int i = 0; i < n; i++) {
-		char *name = malloc((size_t)dir + strlen(files[i]) + 1);
-		if (name == NULL)
-			cli_die(EXIT_INPUT, "out of memory");
-		sprintf(name, "%.*s%s", dir, path, files[i]);
-		FILE *g = fopen(name, "r");
-		if (g == NULL)
-			cli_die(EXIT_INPUT, "%s: %s", name, strerror(errno));
-		mesh *m;
-		double t;
-		int has_t;
-		if (vtk_read_vtp(g, &m, &t, &has_t, &err) != MESH_OK)
-			cli_die(EXIT_INPUT, "%s: %s", name, err.msg);
-		fclose(g);
-		add(fr, m, times[i]);
-		free(name);
-		free(files[i]);
-	}
-	free(files);
-	free(times);
-}
-
 /* The junctions frame i marks into mark: --junction's, else the active
  * ones (raster_active); how many. */
 static int marks(const struct opts *o, const mesh *m, int i, int *mark)
@@ -224,32 +167,28 @@ int main(int argc, char **argv)
 {
 	cli_init("tis-movie", usage, argc, argv);
 	struct opts o = parse(argc, argv);
-	struct frames fr = { 0 };
+	movie_frames fr = { 0 };
+	mesh_error err;
 	const char *dot = o.input ? strrchr(o.input, '.') : NULL;
+	FILE *f = cli_open(o.input);
 	if (dot && !strcmp(dot, ".pvd")) {
-		read_pvd(o.input, &fr);
+		if (movie_frames_read_pvd(&fr, f, o.input, &err) != MESH_OK)
+			cli_die(EXIT_INPUT, "%s", err.msg);
 	} else {
-		FILE *f = cli_open(o.input);
 		long line = 0;
 		mesh *m;
-		while (cli_read_mesh(f, o.input, &line, &m)) {
-			double t;
-			add(&fr, m, mesh_time(m, &t) ? t : NAN);
-		}
+		double t;
+		while (cli_read_mesh(f, o.input, &line, &m))
+			if (movie_frames_add(&fr, m, mesh_time(m, &t) ? t : NAN, &err) != MESH_OK)
+				cli_die(EXIT_INPUT, "%s", err.msg);
 	}
+	if (f != stdin)
+		fclose(f);
 	if (fr.n == 0)
 		cli_no_mesh(o.input);
-	/* one tension scale for the whole movie, so that colours compare */
 	double scale = o.scale;
-	for (int i = 0; i < fr.n && o.scale == 0; i++) {
-		model p = cli_model(fr.m[i], &o.mo);
-		double s = raster_tension_max(fr.m[i], &p);
-		if (s < 0)
-			cli_die(EXIT_INPUT, "out of memory");
-		scale = fmax(scale, s);
-	}
-	if (!(scale > 0))
-		scale = 1;
+	if (scale == 0 && movie_frames_scale(&fr, o.mo.has_p0 ? &o.mo.p0 : NULL, &scale) != MESH_OK)
+		cli_die(EXIT_INPUT, "out of memory");
 	raster_opts ro = { .width = o.width, .scale = scale };
 	int *mark = malloc(((size_t)fr.m[0]->nj + 1) * sizeof *mark);
 	if (mark == NULL)
@@ -276,22 +215,14 @@ int main(int argc, char **argv)
 		ro.mark = mark;
 		ro.nmark = marks(&o, m, i, mark);
 		char label[64];
-		if (isnan(fr.t[i]))
-			snprintf(label, sizeof label, "frame %d", i);
-		else
-			snprintf(label, sizeof label, "t %.6g", fr.t[i]);
+		movie_frame_label(&fr, i, label, sizeof label);
 		ro.label = label;
-		mesh_error err;
 		if (raster_mesh(img, m, &p, &ro, &err) != MESH_OK)
 			cli_die(EXIT_INPUT, "frame %d: %s", i, err.msg);
-		if (o.format == FMT_PPM) {
-			printf("P6\n%d %d\n255\n", w, h);
-			if (fwrite(img->rgb, 3, (size_t)w * h, stdout) != (size_t)w * h)
-				cli_write_error("stdout");
-		} else {
+		if (o.format != FMT_PPM)
 			put(fd, img->rgb, 3 * (size_t)w * h);
-		}
-		mesh_free(m);
+		else if (movie_ppm_write(stdout, img) != MESH_OK)
+			cli_write_error("stdout");
 	}
 	free(mark);
 	if (o.format != FMT_PPM) {
@@ -302,7 +233,6 @@ int main(int argc, char **argv)
 		        cli_name, o.out, fr.n, w, h, (double)fr.n / o.fps, o.fps, scale);
 	}
 	raster_free(img);
-	free(fr.m);
-	free(fr.t);
+	movie_frames_free(&fr);
 	cli_finish();
 }
