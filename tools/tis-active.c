@@ -183,18 +183,9 @@ static struct opts parse(int argc, char **argv)
 	o.jo.name = cli_input_name(o.input);
 	const int network = o.js.kind == JSEL_ALL;
 	act_opts_mode(&o.a, network, o.has_t1, o.has_scheme);
-	if (o.a.t1_length > 0 && !(o.a.t1_new < o.a.t1_length) && !act_scheme_rk(o.a.scheme))
-		cli_usage_error("--t1-new must be shorter than the T1 threshold (euler, split, bdf)");
-	if (o.a.sigma > 0 && o.a.scheme == ACT_BDF)
-		cli_usage_error("--scheme bdf has no noise; use dp5 or euler with --sigma");
-	if (o.a.ou_dt > 0 && fabs(1 / o.a.ou_dt - round(1 / o.a.ou_dt)) > 1e-9 / o.a.ou_dt)
-		cli_usage_error("--ou-dt must be 1/N for a whole number N");
-	if (o.a.t1_rearm > 0 && o.a.t1_rearm < o.a.t1_length)
-		cli_usage_error("--t1-rearm must be 0 or at least the T1 threshold");
-	if (o.a.t1_rule == ACT_T1_HOLD && (!act_scheme_rk(o.a.scheme) || !(o.a.t1_length > 0)))
-		cli_usage_error("--t1-rule hold is for dp5 and bs3 with T1s on");
-	if (act_scheme_dense(o.a.scheme) && o.a.t1_length > 0 && o.a.t1_again == 0)
-		cli_usage_error("--t1-again 0 (flip back at once) is for euler and split only");
+	mesh_error err;
+	if (act_opts_check(&o.a, &err) != MESH_OK)
+		cli_usage_error("%s", err.msg);
 	int multi = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_REGULAR || o.js.kind == JSEL_LIST;
 	if (o.jo.nwatch && !network)
 		cli_usage_error("--watch is for --network");

@@ -297,6 +297,10 @@ double act_rest_force(const mesh *m, const model *p);
  * otherwise T1s off, and euler with noise (bdf has none). */
 #define ACT_NET_T1 0.01
 void act_opts_mode(act_opts *o, int network, int t1_set, int scheme_set);
+/* Options that do not go together (a scheme without the feature asked
+ * for, a T1 length against the threshold, a noise grid not 1/N):
+ * MESH_EDOM naming the option as tis-active(1) does, else MESH_OK. */
+int act_opts_check(const act_opts *o, mesh_error *err);
 
 /* The default noise grid of the Runge-Kutta schemes at tau: 1/N with
  * N = max(100, ceil(20/tau)), at least 20 cells per correlation time. */

@@ -17,6 +17,24 @@ void act_opts_mode(act_opts *o, int network, int t1_set, int scheme_set)
 		o->scheme = network ? ACT_DP5 : ACT_EULER;
 }
 
+int act_opts_check(const act_opts *o, mesh_error *err)
+{
+	const char *why = NULL;
+	if (o->t1_length > 0 && !(o->t1_new < o->t1_length) && !act_scheme_rk(o->scheme))
+		why = "--t1-new must be shorter than the T1 threshold (euler, split, bdf)";
+	else if (o->sigma > 0 && o->scheme == ACT_BDF)
+		why = "--scheme bdf has no noise; use dp5 or euler with --sigma";
+	else if (o->ou_dt > 0 && fabs(1 / o->ou_dt - round(1 / o->ou_dt)) > 1e-9 / o->ou_dt)
+		why = "--ou-dt must be 1/N for a whole number N";
+	else if (o->t1_rearm > 0 && o->t1_rearm < o->t1_length)
+		why = "--t1-rearm must be 0 or at least the T1 threshold";
+	else if (o->t1_rule == ACT_T1_HOLD && (!act_scheme_rk(o->scheme) || !(o->t1_length > 0)))
+		why = "--t1-rule hold is for dp5 and bs3 with T1s on";
+	else if (act_scheme_dense(o->scheme) && o->t1_length > 0 && o->t1_again == 0)
+		why = "--t1-again 0 (flip back at once) is for euler and split only";
+	return why ? mesh_error_set(err, 0, MESH_EDOM, "%s", why) : MESH_OK;
+}
+
 /* The options that shape a run of junction j (-1: all), as the key of
  * its mark (mesh_run_check): a run continued with other options would
  * not be the run that stopped.  --time is not among them (a stopped run
