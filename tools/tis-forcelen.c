@@ -275,6 +275,117 @@ static void linear_warn(const fl_linear *lr, int unsure, int count, double p0)
 	         unsure, count);
 }
 
+/* What the meshes came to: rows written of those asked for, the points
+ * and their statuses (sweeps), the barriers not whole. */
+struct tally {
+	int nmesh, header, written, asked, allpoints, badbar;
+	int nstatus[FL_NSTATUS];
+};
+
+/* --barrier: a mesh's rows whole or none, so a stop leaves no junction's
+ * row behind (the header neither, before the first mesh's). */
+static void barrier_mesh(const struct opts *o, const mesh *m, const model *p, const int *sel,
+                         int count, struct tally *t)
+{
+	bar_opts bo = { .step = o->fl.step, .lmin = o->fl.lmin, .min = o->fl.min };
+	mesh_error err;
+	int nbad = 0;
+	char *buf = NULL;
+	size_t len = 0;
+	FILE *mf = open_memstream(&buf, &len);
+	if (mf == NULL)
+		cli_die(EXIT_INPUT, "out of memory");
+	int st = bar_job(mf, m, p, sel, count, &bo, o->threads, o->summary, &nbad, &cli_stop, &err);
+	if (fclose(mf) != 0)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (st != MESH_OK && !cli_stop)
+		cli_die(EXIT_INPUT, "%s", err.msg);
+	t->asked += count;
+	if (st == MESH_OK) {
+		if (!t->header++)
+			cli_table_header(stdout, m, o->summary ? BAR_SUMMARY_COLUMNS : BAR_COLUMNS);
+		fwrite(buf, 1, len, stdout);
+		t->written += count;
+	}
+	free(buf);
+	t->badbar += nbad;
+}
+
+/* --linear: a row per junction. */
+static void linear_mesh(const struct opts *o, const mesh *m, const model *p, const int *sel,
+                        int count, struct tally *t)
+{
+	mesh_error err;
+	if (!t->header++)
+		cli_table_header(stdout, m, FL_LINEAR_COLUMNS);
+	fl_linear *lr;
+	int st = fl_linear_alloc_method(m, p, 1e-10, o->method, o->max_bytes, &lr, &err);
+	if (st != MESH_OK)
+		cli_fits(st, &err, o->max_memory != NULL);
+	int unsure = fl_linear_write(stdout, lr, m, p->p0, sel, count);
+	if (unsure < 0)
+		cli_die(EXIT_INPUT, "out of memory");
+	linear_warn(lr, unsure, count, p->p0);
+	fl_linear_free(lr);
+}
+
+/* The sweeps: each whole curve written as soon as it and those before it
+ * are done. */
+static void sweep_mesh(const struct opts *o, const mesh *m, const model *p, const int *sel,
+                       int count, struct tally *t)
+{
+	struct out u = { .m = m, .cols = FL_CURVE_COLUMNS, .header = &t->header, .p0 = p->p0 };
+	cli_progress_init(&u.pr);
+	fl_sweeps_io io = { write_curve, progress, &u };
+	fl_sweeps_result r;
+	mesh_error err;
+	int st = fl_sweeps(m, p, &o->fl, sel, count, o->threads, &cli_stop, &io, &r, &err);
+	if (u.pr.tty)
+		fputc('\n', stderr);
+	if (st == MESH_EIO) {
+		errno = u.werr;
+		cli_write_error("stdout");
+	}
+	if (st != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err.msg);
+	t->written += r.written;
+	t->asked += count;
+	t->allpoints += r.points;
+	for (int k = 0; k < FL_NSTATUS; k++)
+		t->nstatus[k] += r.nstatus[k];
+}
+
+/* The end: a stop, no mesh, points without a minimum or not converged. */
+static void finish(const struct opts *o, const struct tally *t)
+{
+	const char *what = o->barrier ? "barriers" : "curves";
+	if (cli_stop && !t->header)
+		cli_interrupted(!t->nmesh ? "before a mesh came in" : o->barrier ? "before a mesh's barriers "
+		                "were whole" : "before a curve was whole");
+	if (cli_stop) {
+		printf("# %s interrupted by %s: %d of %d %s written%s, whole %s only\n",
+		       cli_name, cli_stop_name(), t->written, t->asked, what,
+		       t->nmesh > 1 ? " (of the meshes read so far)" : "", o->barrier ? "meshes" : what);
+		cli_finish_status(EXIT_NOCONV, "interrupted by %s: wrote %d of %d %s, whole %s only",
+		                  cli_stop_name(), t->written, t->asked, what,
+		                  o->barrier ? "meshes" : what);
+	}
+	if (t->nmesh == 0)
+		cli_no_mesh(o->input);
+	if (t->badbar)
+		cli_finish_status(EXIT_NOCONV, "%d barriers not whole (status not ok)", t->badbar);
+	if (t->nstatus[FL_NOMIN])
+		cli_warn("%d of %d points have no minimum at the input's topology (a junction ran to "
+		         "zero length): %s", t->nstatus[FL_NOMIN], t->allpoints,
+		         o->fl.t1 > 0 ? "no T1 could resolve them" :
+		         "their legs end there (--t1 L carries the sweeps through a T1)");
+	if (t->nstatus[FL_NOCONV])
+		cli_finish_status(EXIT_NOCONV, "%d of %d points did not converge to the force "
+		                  "tolerance %g (status not-converged)", t->nstatus[FL_NOCONV],
+		                  t->allpoints, o->fl.min.ftol);
+	cli_finish();
+}
+
 int main(int argc, char **argv)
 {
 	cli_init("tis-forcelen", usage, argc, argv);
@@ -282,10 +393,9 @@ int main(int argc, char **argv)
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;
-	int nmesh = 0, allpoints = 0, written = 0, asked = 0, header = 0, badbar = 0;
-	int nstatus[FL_NSTATUS] = { 0 };
+	struct tally t = { 0 };
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
-		nmesh++;
+		t.nmesh++;
 		cli_refuse_held(m, o.input);
 		model p = cli_model(m, &o.mo);
 		mesh_error err;
@@ -301,98 +411,16 @@ int main(int argc, char **argv)
 		/* the header waits for a valid mesh and junction (bad input
 		 * leaves no output) and for a whole curve (a run stopped before
 		 * one leaves none either) */
-		if (o.barrier) {
-			/* a mesh's rows whole or none: a stop leaves no junction's
-			 * row behind (the header neither, before the first mesh's) */
-			bar_opts bo = { .step = o.fl.step, .lmin = o.fl.lmin, .min = o.fl.min };
-			int nbad = 0;
-			char *buf = NULL;
-			size_t len = 0;
-			FILE *mf = open_memstream(&buf, &len);
-			if (mf == NULL)
-				cli_die(EXIT_INPUT, "out of memory");
-			int st = bar_job(mf, m, &p, sel, count, &bo, o.threads, o.summary, &nbad,
-			                 &cli_stop, &err);
-			if (fclose(mf) != 0)
-				cli_die(EXIT_INPUT, "out of memory");
-			if (st != MESH_OK && !cli_stop)
-				cli_die(EXIT_INPUT, "%s", err.msg);
-			asked += count;
-			if (st == MESH_OK) {
-				if (!header++)
-					cli_table_header(stdout, m, o.summary ? BAR_SUMMARY_COLUMNS : BAR_COLUMNS);
-				fwrite(buf, 1, len, stdout);
-				written += count;
-			}
-			free(buf);
-			badbar += nbad;
-			free(sel);
-			mesh_free(m);
-			continue;
-		}
-		if (o.linear) {
-			if (!header++)
-				cli_table_header(stdout, m, FL_LINEAR_COLUMNS);
-			fl_linear *lr;
-			int st = fl_linear_alloc_method(m, &p, 1e-10, o.method, o.max_bytes, &lr, &err);
-			if (st != MESH_OK)
-				cli_fits(st, &err, o.max_memory != NULL);
-			int unsure = fl_linear_write(stdout, lr, m, p.p0, sel, count);
-			if (unsure < 0)
-				cli_die(EXIT_INPUT, "out of memory");
-			linear_warn(lr, unsure, count, p.p0);
-			fl_linear_free(lr);
-			free(sel);
-			mesh_free(m);
-			continue;
-		}
-
-		struct out u = { .m = m, .cols = FL_CURVE_COLUMNS, .header = &header, .p0 = p.p0 };
-		cli_progress_init(&u.pr);
-		fl_sweeps_io io = { write_curve, progress, &u };
-		fl_sweeps_result r;
-		int st = fl_sweeps(m, &p, &o.fl, sel, count, o.threads, &cli_stop, &io, &r, &err);
-		if (u.pr.tty)
-			fputc('\n', stderr);
-		if (st == MESH_EIO) {
-			errno = u.werr;
-			cli_write_error("stdout");
-		}
-		if (st != MESH_OK)
-			cli_die(EXIT_INPUT, "%s", err.msg);
-		written += r.written;
-		asked += count;
-		allpoints += r.points;
-		for (int k = 0; k < FL_NSTATUS; k++)
-			nstatus[k] += r.nstatus[k];
+		if (o.barrier)
+			barrier_mesh(&o, m, &p, sel, count, &t);
+		else if (o.linear)
+			linear_mesh(&o, m, &p, sel, count, &t);
+		else
+			sweep_mesh(&o, m, &p, sel, count, &t);
 		free(sel);
 		mesh_free(m);
 	}
 	if (in != stdin)
 		fclose(in);
-	const char *what = o.barrier ? "barriers" : "curves";
-	if (cli_stop && !header)
-		cli_interrupted(!nmesh ? "before a mesh came in" : o.barrier ? "before a mesh's barriers "
-		                "were whole" : "before a curve was whole");
-	if (cli_stop) {
-		printf("# %s interrupted by %s: %d of %d %s written%s, whole %s only\n",
-		       cli_name, cli_stop_name(), written, asked, what,
-		       nmesh > 1 ? " (of the meshes read so far)" : "", o.barrier ? "meshes" : what);
-		cli_finish_status(EXIT_NOCONV, "interrupted by %s: wrote %d of %d %s, whole %s only",
-		                  cli_stop_name(), written, asked, what, o.barrier ? "meshes" : what);
-	}
-	if (nmesh == 0)
-		cli_no_mesh(o.input);
-	if (badbar)
-		cli_finish_status(EXIT_NOCONV, "%d barriers not whole (status not ok)", badbar);
-	if (nstatus[FL_NOMIN])
-		cli_warn("%d of %d points have no minimum at the input's topology (a junction ran to "
-		         "zero length): %s", nstatus[FL_NOMIN], allpoints,
-		         o.fl.t1 > 0 ? "no T1 could resolve them" :
-		         "their legs end there (--t1 L carries the sweeps through a T1)");
-	if (nstatus[FL_NOCONV])
-		cli_finish_status(EXIT_NOCONV, "%d of %d points did not converge to the force "
-		                  "tolerance %g (status not-converged)", nstatus[FL_NOCONV], allpoints,
-		                  o.fl.min.ftol);
-	cli_finish();
+	finish(&o, &t);
 }
