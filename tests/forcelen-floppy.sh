@@ -61,15 +61,18 @@ ok "elsewhere f = -2 dW/dl along the sweep (points, largest |difference|, less h
 ok "and W rises from zero on the compressing leg: the curve is not trivially zero" \
 	awk -F'\t' '$6 == "out" && $7 < $5 && $9 > 1e-6 { k++ } END { exit !(k >= 20) }' "$T/a.rows"
 
-# Junction 229: stretched to l0 + 0.235, its neighbour 216 runs to zero
-# length: no minimum at this topology.  The leg ends at that point, its
-# return starts from the last result.
+# Junction 229: stretched to l0 + 0.235, the short junctions 216 and 174
+# near it run to zero length: no minimum at this topology.  The leg ends
+# at that point, its return starts from the last result.  Which of the
+# two the watch catches below RELAX_COLLAPSE first depends on the path
+# the minimizer takes through the floppy modes (the solve of each
+# Gauss-Newton step); with --t1 below 216 is the first to flip.
 tis-forcelen --index 229 --threads 1 "$T/f.mesh" >"$T/b.tsv" 2>"$T/b.err"; st=$?
 rows "$T/b.tsv" >"$T/b.rows"
 ok "a leg that must end: exit 0 (its points are honest), one no-minimum point" \
 	test "$st $(awk -F'\t' '$11 == "no-minimum"' "$T/b.rows" | wc -l)" = "0 1"
-ok "... which names the junction that ran to zero (jzero 216), with its residual above the tolerance" \
-	awk -F'\t' '$11 == "no-minimum" { exit !($12 == 216 && $10 > 1e-10) }' "$T/b.rows"
+ok "... which names a junction that ran to zero (jzero 216 or 174), with its residual above the tolerance" \
+	awk -F'\t' '$11 == "no-minimum" { exit !(($12 == 216 || $12 == 174) && $10 > 1e-10) }' "$T/b.rows"
 ok "... every other point ok, jzero -1" \
 	awk -F'\t' '$11 != "no-minimum" && ($11 != "ok" || $12 != -1 || !($10 <= 1e-10)) { exit 1 }' "$T/b.rows"
 ok "... the last point of the stretching leg; the return starts one step in from it" \
@@ -90,7 +93,7 @@ ok "--t1 0.05: exit 0, quiet, the whole sweep (241 points)" \
 	test "$st $(wc -c <"$T/c.err") $(wc -l <"$T/c.rows")" = "0 0 241"
 ok "... ok and plastic points only, each within the tolerance; plastic ones name a flipped junction" \
 	awk -F'\t' '!($10 <= 1e-10) || ($11 == "ok") != ($12 == -1) || ($11 != "ok" && $11 != "plastic") { exit 1 }' "$T/c.rows"
-ok "... 216, the junction that ran to zero without --t1, among them" \
+ok "... 216, the first of the junctions that run to zero without --t1, among them" \
 	awk -F'\t' '$11 == "plastic" && $12 == 216 { y = 1 } END { exit !y }' "$T/c.rows"
 ok "... the elastic part is the sweep without --t1, point for point, until the first T1" sh -c "
 	awk -F'\t' '\$11 == \"plastic\" { exit } { print \$7, \$8 }' '$T/c.rows' >'$T/c.el'
