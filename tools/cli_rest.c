@@ -19,6 +19,6 @@ int cli_rest(mesh *m, const model *p, const cli_rest_opts *o, double *fmax)
 		        rr.f0, o->tol, o->hint ? o->hint : "");
 	if (rr.relaxed)
 		cli_warn("input not at rest at p0 %g (max force %.3g): relaxed to %.3g%s", p->p0, rr.f0,
-		         rr.fres, o->say_short && !rr.converged ? ", short of the tolerance" : "");
+		         rr.fres, !rr.converged ? ", short of the tolerance" : "");
 	return rr.relaxed && !rr.converged;
 }

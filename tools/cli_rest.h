@@ -15,14 +15,13 @@ typedef struct {
 	int refuse;        /* with relax 0: a mesh not at rest is refused (exit
 	                      1, naming its force), else taken as it is */
 	const char *hint;  /* after the refusal, what to do (NULL: nothing) */
-	int say_short;     /* the warning says when the relaxation fell short
-	                      of tol */
 } cli_rest_opts;
 
 /* Bring m to rest at p as o says: a warning on stderr when it was
- * relaxed, exit 1 (one line) when it cannot be or is refused.  *fmax (if
- * fmax is not NULL) gets the largest vertex force left.  Returns 1 if a
- * relaxation fell short of o->tol, else 0. */
+ * relaxed (saying so when it fell short of o->tol), exit 1 (one line)
+ * when it cannot be or is refused.  *fmax (if fmax is not NULL) gets the
+ * largest vertex force left.  Returns 1 if a relaxation fell short of
+ * o->tol, else 0. */
 int cli_rest(mesh *m, const model *p, const cli_rest_opts *o, double *fmax);
 
 #endif

@@ -104,7 +104,7 @@ int main(int argc, char **argv)
 		cli_fits(mesh_memory_check(m, elastic_bytes_min(m), o.max_bytes,
 		                           "the elastic moduli (the hessian and its vectors)", &err),
 		         &err, o.max_memory != NULL);
-		cli_rest_opts ro = { .tol = o.tol, .relax = o.relax, .refuse = 1, .say_short = 1,
+		cli_rest_opts ro = { .tol = o.tol, .relax = o.relax, .refuse = 1,
 		                     .hint = " (relax it first, or leave out --no-relax)" };
 		double fmax;
 		missed += cli_rest(m, &p, &ro, &fmax);

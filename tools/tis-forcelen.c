@@ -404,7 +404,7 @@ int main(int argc, char **argv)
 			cli_fits(fl_linear_fits_method(m, o.method, o.max_bytes, &err), &err,
 			         o.max_memory != NULL);
 		/* so that l0 is a rest length; --no-relax measures the mesh as it is */
-		cli_rest_opts ro = { .tol = o.fl.min.ftol, .relax = o.relax, .say_short = 1 };
+		cli_rest_opts ro = { .tol = o.fl.min.ftol, .relax = o.relax };
 		cli_rest(m, &p, &ro, NULL);
 		int count;
 		int *sel = select_junctions(&o, m, &count);
