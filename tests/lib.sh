@@ -44,7 +44,9 @@ n=0
 failed=0
 plan() { echo "1..$1"; }
 pass() { n=$((n + 1)); echo "ok $n - $1"; }
-fail() { n=$((n + 1)); failed=$((failed + 1)); echo "not ok $n - $1"; }
+# (a failure also goes to stderr, which prove shows without -v: a CI log
+# names what failed, with its seed where the test draws one)
+fail() { n=$((n + 1)); failed=$((failed + 1)); echo "not ok $n - $1"; echo "# failed $n: $1" >&2; }
 diag() { printf '# %s\n' "$@"; }
 # skip COUNT REASON: COUNT tests not run for want of something a user's
 # machine may lack (a package, a device).  CI installs all of it and
