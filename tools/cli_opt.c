@@ -206,3 +206,78 @@ void cli_model_set(mesh *m, const cli_model_opts *mo)
 	    (mo->has_ka && mesh_param_set(m, "ka", mo->ka) != MESH_OK))
 		cli_die(EXIT_INPUT, "out of memory");
 }
+
+/* The values of getopt_long for defs[i]: OPT_BASE + i; help and version
+ * after them. */
+enum { OPT_BASE = 256, OPT_MAX = 96 };
+
+static void opt_apply(cli_optdef *d, const char *arg, int argc, char **argv)
+{
+	char opt[64];
+	snprintf(opt, sizeof opt, "--%s", d->name);
+	switch (d->kind) {
+	case CLI_FLAG: *(int *)d->to = d->val; break;
+	case CLI_DOUBLE: *(double *)d->to = cli_double_range(opt, arg, d->lo, d->hi); break;
+	case CLI_INVERSE: *(double *)d->to = 1 / cli_double_range(opt, arg, d->lo, d->hi); break;
+	case CLI_INT: *(int *)d->to = (int)cli_long(opt, arg, (long)d->lo, (long)d->hi); break;
+	case CLI_LONG: *(long *)d->to = cli_long(opt, arg, (long)d->lo, (long)d->hi); break;
+	case CLI_ULONG:
+		*(unsigned long *)d->to = (unsigned long)cli_long(opt, arg, (long)d->lo, (long)d->hi);
+		break;
+	case CLI_STRING: *(const char **)d->to = arg; break;
+	case CLI_JUNCTIONS: case CLI_ALL: cli_jsel(d->to, d->name, d->val, d->msg, argc, argv); break;
+	case CLI_MODEL: cli_model_option(d->to, d->name, arg); break;
+	case CLI_PARSE:
+		if (d->parse(d->to, arg) != 0)
+			cli_usage_error(d->msg, arg);
+		break;
+	}
+}
+
+int cli_parse(int argc, char **argv, cli_optdef *defs, const char *help)
+{
+	struct option lo[OPT_MAX + 3];
+	int n = 0;
+	for (; defs[n].name; n++) {
+		if (n == OPT_MAX)
+			cli_die(EXIT_USAGE, "more than %d options in a table", OPT_MAX);
+		lo[n] = (struct option){ defs[n].name,
+		                         defs[n].kind == CLI_FLAG || defs[n].kind == CLI_ALL ? no_argument : required_argument,
+		                         NULL, OPT_BASE + n };
+		defs[n].seen = 0;
+	}
+	lo[n] = (struct option){ "help", no_argument, NULL, 'h' };
+	lo[n + 1] = (struct option){ "version", no_argument, NULL, OPT_BASE + n };
+	lo[n + 2] = (struct option){ 0 };
+	int c, place = 0;
+	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+		if (c == 'h')
+			cli_help(help);
+		if (c == OPT_BASE + n)
+			cli_version();
+		if (c < OPT_BASE)
+			cli_bad_option(argv, c);
+		cli_optdef *d = &defs[c - OPT_BASE];
+		place++;
+		if (!d->seen)
+			d->seen = place;
+		opt_apply(d, optarg, argc, argv);
+	}
+	return optind;
+}
+
+const char *cli_opt_first(const cli_optdef *defs, unsigned group)
+{
+	const cli_optdef *first = NULL;
+	for (const cli_optdef *d = defs; d->name; d++)
+		if ((d->group & group) && d->seen && (!first || d->seen < first->seen))
+			first = d;
+	return first ? first->name : NULL;
+}
+
+const char *cli_opt_input(int argc, char **argv, int first)
+{
+	if (argc - first > 1)
+		cli_usage_error("at most one input file");
+	return first < argc ? argv[first] : NULL;
+}

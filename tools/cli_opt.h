@@ -66,4 +66,54 @@ void cli_model_option(cli_model_opts *mo, const char *name, const char *arg);
 model cli_model(const mesh *m, const cli_model_opts *mo);
 void cli_model_set(mesh *m, const cli_model_opts *mo);
 
+/* A program's options as a table that cli_parse reads: each entry an
+ * option by its long name, what kind of argument it takes and where its
+ * value goes, so that parse() is the table and the checks between
+ * options.  Messages are those of the functions above, naming the option
+ * as --name; -h/--help (cli_help) and --version (cli_version) come with
+ * every table. */
+typedef enum {
+	CLI_FLAG,       /* no argument: *(int *)to = val */
+	CLI_DOUBLE,     /* a number in [lo, hi] (cli_double_range): *(double *)to */
+	CLI_INVERSE,    /* the same, its reciprocal: *(double *)to (a rate for
+	                   a time) */
+	CLI_INT,        /* an integer in [lo, hi] (cli_long): *(int *)to */
+	CLI_LONG,       /* the same: *(long *)to */
+	CLI_ULONG,      /* the same: *(unsigned long *)to (lo >= 0) */
+	CLI_STRING,     /* the argument itself: *(const char **)to */
+	CLI_JUNCTIONS,  /* a junction choice (cli_jsel with again val and
+	                   choose msg): *(jsel *)to */
+	CLI_ALL,        /* the same without an argument: every junction
+	                   (--all, --network) */
+	CLI_MODEL,      /* "p0" or "ka" (cli_model_option): *(cli_model_opts *)to */
+	CLI_PARSE       /* parse(to, argument); nonzero: a usage error, the
+	                   message msg with the argument for its one %s */
+} cli_optkind;
+
+typedef struct {
+	const char *name;   /* the long name, without the dashes; NULL ends a table */
+	cli_optkind kind;
+	void *to;
+	double lo, hi;      /* the range of a number */
+	int val;            /* CLI_FLAG's value, CLI_JUNCTIONS' again */
+	const char *msg;    /* CLI_PARSE's and CLI_JUNCTIONS' usage error */
+	int (*parse)(void *to, const char *arg);
+	unsigned group;     /* bits the program chooses, for cli_opt_first */
+	int seen;           /* set by cli_parse: the option's first place among
+	                       those given (1, 2, ...), 0 if not given */
+} cli_optdef;
+
+/* Parse the options of argv by defs (getopt_long: long names and their
+ * unambiguous prefixes, "--name=value" too) in order, each value where its
+ * entry says; an unknown option or a missing argument is cli_bad_option's
+ * usage error, -h/--help prints help.  Returns the index in argv of the
+ * first operand (optind). */
+int cli_parse(int argc, char **argv, cli_optdef *defs, const char *help);
+/* The long name of the option given first among those of defs whose
+ * group shares a bit with group, NULL if none was given. */
+const char *cli_opt_first(const cli_optdef *defs, unsigned group);
+/* The input file operand from argv[first] on: NULL (stdin) if none, a
+ * usage error if more than one. */
+const char *cli_opt_input(int argc, char **argv, int first);
+
 #endif

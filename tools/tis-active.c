@@ -1,6 +1,5 @@
 /* tis-active - active junction dynamics (paper eqs. 1-2): one junction,
  * several one after another, or every junction of a tissue. */
-#include <getopt.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -78,111 +77,72 @@ struct opts {
 	act_opts a;
 	act_job_opts jo;
 	cli_model_opts mo;
-	int has_t1, has_scheme;
 	const char *trace, *events, *input;
 };
 
+static int scheme(void *to, const char *arg) { return act_scheme_parse(arg, to); }
+static int t1_rule(void *to, const char *arg) { return act_t1_rule_parse(arg, to); }
+static int watch(void *to, const char *arg)
+{
+	act_job_opts *jo = to;
+	jo->watch = cli_int_list("--watch", arg, 0, INT_MAX, &jo->nwatch);
+	return 0;
+}
+
 static struct opts parse(int argc, char **argv)
 {
-	enum { O_JUNCTION = 256, O_INDEX, O_RANDOM, O_REGULAR, O_LIST, O_NET, O_RATE, O_TAU, O_GAMMA0,
-	       O_SIGMA, O_P0, O_KA, O_TIME, O_PERTURB, O_SEED, O_SCHEME, O_RTOL, O_CHECKPOINT, O_DT, O_DR,
-	       O_T1, O_T1NEW, O_T1AGAIN, O_T1REARM, O_T1RULE, O_OUDT, O_COLLAPSE, O_TRACE, O_TRACEEVERY, O_WATCH, O_EVENTS, O_EVERY, O_VERSION };
-	static const struct option lo[] = {
-		{ "junction", required_argument, NULL, O_JUNCTION },
-		{ "index", required_argument, NULL, O_INDEX },
-		{ "random", required_argument, NULL, O_RANDOM },
-		{ "regular", required_argument, NULL, O_REGULAR },
-		{ "list", required_argument, NULL, O_LIST },
-		{ "network", no_argument, NULL, O_NET },
-		{ "rate", required_argument, NULL, O_RATE },
-		{ "tau", required_argument, NULL, O_TAU },
-		{ "gamma0", required_argument, NULL, O_GAMMA0 },
-		{ "sigma", required_argument, NULL, O_SIGMA },
-		{ "p0", required_argument, NULL, O_P0 },
-		{ "ka", required_argument, NULL, O_KA },
-		{ "time", required_argument, NULL, O_TIME },
-		{ "perturb", required_argument, NULL, O_PERTURB },
-		{ "seed", required_argument, NULL, O_SEED },
-		{ "scheme", required_argument, NULL, O_SCHEME },
-		{ "rtol", required_argument, NULL, O_RTOL },
-		{ "checkpoint", required_argument, NULL, O_CHECKPOINT },
-		{ "dt", required_argument, NULL, O_DT },
-		{ "dr", required_argument, NULL, O_DR },
-		{ "t1", required_argument, NULL, O_T1 },
-		{ "t1-new", required_argument, NULL, O_T1NEW },
-		{ "t1-again", required_argument, NULL, O_T1AGAIN },
-		{ "t1-rearm", required_argument, NULL, O_T1REARM },
-		{ "t1-rule", required_argument, NULL, O_T1RULE },
-		{ "ou-dt", required_argument, NULL, O_OUDT },
-		{ "collapse", required_argument, NULL, O_COLLAPSE },
-		{ "trace", required_argument, NULL, O_TRACE },
-		{ "trace-every", required_argument, NULL, O_TRACEEVERY },
-		{ "watch", required_argument, NULL, O_WATCH },
-		{ "events", required_argument, NULL, O_EVENTS },
-		{ "every", required_argument, NULL, O_EVERY },
-		{ "threads", required_argument, NULL, 'T' },
-		{ "help", no_argument, NULL, 'h' },
-		{ "version", no_argument, NULL, O_VERSION },
-		{ 0 }
-	};
+	enum { T1 = 1, SCHEME = 2 };   /* given: the defaults of act_opts_mode stand aside */
+	static const char choose[] =
+		"choose one of --junction, --index, --random, --regular, --list, --network";
 	struct opts o = { .jo = { .perturb = -1, .seed = 1, .t_end = 1000, .trace_every = 1 } };
 	act_opts_init(&o.a);
 	o.a.threads = 0;
-	int c, li;
-	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
-		switch (c) {
-		case O_JUNCTION: case O_INDEX: case O_RANDOM: case O_REGULAR: case O_LIST: case O_NET:
-			cli_jsel(&o.js, lo[li].name, 0,
-			         "choose one of --junction, --index, --random, --regular, --list, --network", argc, argv);
-			break;
-		case O_RATE: o.a.tau = 1 / cli_double_range("--rate", optarg, 1e-9, 1e9); break;
-		case O_TAU: o.a.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
-		case O_GAMMA0: o.a.gamma0 = cli_double_range("--gamma0", optarg, -1e6, 1e6); break;
-		case O_SIGMA: o.a.sigma = cli_double_range("--sigma", optarg, 0, 100); break;
-		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
-		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
-		case O_TIME: o.jo.t_end = cli_double_range("--time", optarg, 0, 1e12); break;
-		case O_PERTURB: o.jo.perturb = cli_double_range("--perturb", optarg, 0, 0.1); break;
-		case O_SEED: o.jo.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_SCHEME:
-			if (act_scheme_parse(optarg, &o.a.scheme) != MESH_OK)
-				cli_usage_error("--scheme: dp5, bs3, bdf, euler or split, not '%s'", optarg);
-			o.has_scheme = 1;
-			break;
-		case O_RTOL: o.a.rtol = cli_double_range("--rtol", optarg, 1e-14, 0.1); break;
-		case O_CHECKPOINT: o.a.checkpoint = cli_double_range("--checkpoint", optarg, 0, 1e12); break;
-		case O_DT: o.a.dt_max = cli_double_range("--dt", optarg, 1e-9, 1); break;
-		case O_DR: o.a.dr_max = cli_double_range("--dr", optarg, 1e-9, 0.1); break;
-		case O_T1: o.a.t1_length = cli_double_range("--t1", optarg, 0, 0.5); o.has_t1 = 1; break;
-		case O_T1NEW: o.a.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
-		case O_T1AGAIN: o.a.t1_again = cli_double_range("--t1-again", optarg, 0, 0.999); break;
-		case O_T1REARM: o.a.t1_rearm = cli_double_range("--t1-rearm", optarg, 0, 1e6); break;
-		case O_T1RULE:
-			if (act_t1_rule_parse(optarg, &o.a.t1_rule) != MESH_OK)
-				cli_usage_error("--t1-rule: paper or hold, not '%s'", optarg);
-			break;
-		case O_OUDT: o.a.ou_dt = cli_double_range("--ou-dt", optarg, 1e-9, 1); break;
-		case O_COLLAPSE: o.a.l_collapse = cli_double_range("--collapse", optarg, 1e-9, 0.5); break;
-		case O_TRACE: o.trace = optarg; break;
-		case O_TRACEEVERY: o.jo.trace_every = cli_double_range("--trace-every", optarg, 1e-9, 1e12); break;
-		case O_EVENTS: o.events = optarg; break;
-		case O_WATCH: o.jo.watch = cli_int_list("--watch", optarg, 0, INT_MAX, &o.jo.nwatch); break;
-		case O_EVERY: o.jo.every = cli_double_range("--every", optarg, 1e-9, 1e12); break;
-		case 'T': o.a.threads = cli_threads(optarg); break;
-		case 'h': cli_help(help);
-		case O_VERSION: cli_version();
-		default: cli_bad_option(argv, c);
-		}
-	}
+	cli_optdef d[] = {
+		{ "junction", CLI_JUNCTIONS, &o.js, .msg = choose },
+		{ "index", CLI_JUNCTIONS, &o.js, .msg = choose },
+		{ "random", CLI_JUNCTIONS, &o.js, .msg = choose },
+		{ "regular", CLI_JUNCTIONS, &o.js, .msg = choose },
+		{ "list", CLI_JUNCTIONS, &o.js, .msg = choose },
+		{ "network", CLI_ALL, &o.js, .msg = choose },
+		{ "rate", CLI_INVERSE, &o.a.tau, .lo = 1e-9, .hi = 1e9 },
+		{ "tau", CLI_DOUBLE, &o.a.tau, .lo = 1e-9, .hi = 1e9 },
+		{ "gamma0", CLI_DOUBLE, &o.a.gamma0, .lo = -1e6, .hi = 1e6 },
+		{ "sigma", CLI_DOUBLE, &o.a.sigma, .lo = 0, .hi = 100 },
+		{ "p0", CLI_MODEL, .to = &o.mo },
+		{ "ka", CLI_MODEL, .to = &o.mo },
+		{ "time", CLI_DOUBLE, &o.jo.t_end, .lo = 0, .hi = 1e12 },
+		{ "perturb", CLI_DOUBLE, &o.jo.perturb, .lo = 0, .hi = 0.1 },
+		{ "seed", CLI_ULONG, &o.jo.seed, .lo = 0, .hi = 4294967295. },
+		{ "scheme", CLI_PARSE, &o.a.scheme, .parse = scheme, .group = SCHEME,
+		  .msg = "--scheme: dp5, bs3, bdf, euler or split, not '%s'" },
+		{ "rtol", CLI_DOUBLE, &o.a.rtol, .lo = 1e-14, .hi = 0.1 },
+		{ "checkpoint", CLI_DOUBLE, &o.a.checkpoint, .lo = 0, .hi = 1e12 },
+		{ "dt", CLI_DOUBLE, &o.a.dt_max, .lo = 1e-9, .hi = 1 },
+		{ "dr", CLI_DOUBLE, &o.a.dr_max, .lo = 1e-9, .hi = 0.1 },
+		{ "t1", CLI_DOUBLE, &o.a.t1_length, .lo = 0, .hi = 0.5, .group = T1 },
+		{ "t1-new", CLI_DOUBLE, &o.a.t1_new, .lo = 1e-9, .hi = 0.5 },
+		{ "t1-again", CLI_DOUBLE, &o.a.t1_again, .lo = 0, .hi = 0.999 },
+		{ "t1-rearm", CLI_DOUBLE, &o.a.t1_rearm, .lo = 0, .hi = 1e6 },
+		{ "t1-rule", CLI_PARSE, &o.a.t1_rule, .parse = t1_rule,
+		  .msg = "--t1-rule: paper or hold, not '%s'" },
+		{ "ou-dt", CLI_DOUBLE, &o.a.ou_dt, .lo = 1e-9, .hi = 1 },
+		{ "collapse", CLI_DOUBLE, &o.a.l_collapse, .lo = 1e-9, .hi = 0.5 },
+		{ "trace", CLI_STRING, .to = &o.trace },
+		{ "trace-every", CLI_DOUBLE, &o.jo.trace_every, .lo = 1e-9, .hi = 1e12 },
+		{ "watch", CLI_PARSE, &o.jo, .parse = watch },
+		{ "events", CLI_STRING, .to = &o.events },
+		{ "every", CLI_DOUBLE, &o.jo.every, .lo = 1e-9, .hi = 1e12 },
+		{ "threads", CLI_INT, &o.a.threads, .lo = 1, .hi = ENERGY_MAXTHREADS },
+		{ NULL }
+	};
+	int first = cli_parse(argc, argv, d, help);
 	if (o.js.kind == JSEL_NONE)
 		cli_usage_error("choose junctions with --junction, --index, --random, --regular, --list or --network");
-	if (argc - optind > 1)
-		cli_usage_error("at most one input file");
-	o.input = optind < argc ? argv[optind] : NULL;
+	o.input = cli_opt_input(argc, argv, first);
 	o.js.seed = o.jo.seed;
 	o.jo.name = cli_input_name(o.input);
 	const int network = o.js.kind == JSEL_ALL;
-	act_opts_mode(&o.a, network, o.has_t1, o.has_scheme);
+	act_opts_mode(&o.a, network, cli_opt_first(d, T1) != NULL, cli_opt_first(d, SCHEME) != NULL);
 	mesh_error err;
 	if (act_opts_check(&o.a, &err) != MESH_OK)
 		cli_usage_error("%s", err.msg);

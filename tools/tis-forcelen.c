@@ -90,100 +90,52 @@ struct opts {
 	int relax, linear, threads;
 	int barrier, summary;     /* --barrier, --summary */
 	int method;               /* --linear-method */
-	const char *method_opt;   /* as given, NULL: not given */
 	const char *max_memory;   /* --max-memory, NULL: the memory available */
 	double max_bytes;
 	const char *input;
 };
 
+static int algo(void *to, const char *arg) { return !min_algo_parse(arg, to); }
+static int method(void *to, const char *arg) { return fl_linear_method_parse(arg, to); }
+
 static struct opts parse(int argc, char **argv)
 {
-	enum { O_P0 = 256, O_KA, O_STEP, O_RANGE, O_LMIN, O_NOBACK, O_PRED, O_T1, O_TOL,
-	       O_ALGO, O_MAXEVAL, O_NORELAX, O_LINEAR, O_THREADS, O_JUNCTION,
-	       O_INDEX, O_RANDOM, O_SEED, O_ALL, O_VERSION, O_NOPC, O_MAXMEM, O_METHOD,
-	       O_BARRIER, O_SUMMARY };
-	static const struct option lo[] = {
-		{ "junction", required_argument, NULL, O_JUNCTION },
-		{ "index", required_argument, NULL, O_INDEX },
-		{ "random", required_argument, NULL, O_RANDOM },
-		{ "seed", required_argument, NULL, O_SEED },
-		{ "all", no_argument, NULL, O_ALL },
-		{ "p0", required_argument, NULL, O_P0 },
-		{ "ka", required_argument, NULL, O_KA },
-		{ "step", required_argument, NULL, O_STEP },
-		{ "range", required_argument, NULL, O_RANGE },
-		{ "lmin", required_argument, NULL, O_LMIN },
-		{ "no-back", no_argument, NULL, O_NOBACK },
-		{ "predict", required_argument, NULL, O_PRED },
-		{ "t1", required_argument, NULL, O_T1 },
-		{ "tol", required_argument, NULL, O_TOL },
-		{ "algo", required_argument, NULL, O_ALGO },
-		{ "maxeval", required_argument, NULL, O_MAXEVAL },
-		{ "no-relax", no_argument, NULL, O_NORELAX },
-		{ "no-precond", no_argument, NULL, O_NOPC },
-		{ "linear", no_argument, NULL, O_LINEAR },
-		{ "barrier", no_argument, NULL, O_BARRIER },
-		{ "summary", no_argument, NULL, O_SUMMARY },
-		{ "threads", required_argument, NULL, O_THREADS },
-		{ "max-memory", required_argument, NULL, O_MAXMEM },
-		{ "linear-method", required_argument, NULL, O_METHOD },
-		{ "help", no_argument, NULL, 'h' },
-		{ "version", no_argument, NULL, O_VERSION },
-		{ 0 }
-	};
+	/* the options only a sweep uses, only its legs, --lmin, --linear-method */
+	enum { SWEEP = 1, LEG = 2, LMIN = 4, METHOD = 8 };
+	static const char choose[] = "choose one of --junction, --index, --random, --all";
 	struct opts o = { .js = { .kind = JSEL_NONE, .seed = 1 }, .relax = 1, .threads = 0 };
 	fl_opts_init(&o.fl);
-	const char *sweep_opt = NULL;   /* the first option only a sweep uses */
-	const char *leg_opt = NULL;     /* the first only a sweep's legs use */
-	int has_lmin = 0;
-	int c;
-	int li;
-	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
-		if (sweep_opt == NULL && (c == O_STEP || c == O_RANGE || c == O_LMIN || c == O_NOBACK ||
-		                          c == O_PRED || c == O_ALGO || c == O_MAXEVAL || c == O_NOPC ||
-		                          c == O_T1))
-			sweep_opt = lo[li].name;
-		if (leg_opt == NULL && (c == O_RANGE || c == O_NOBACK || c == O_PRED))
-			leg_opt = lo[li].name;
-		has_lmin |= c == O_LMIN;
-		switch (c) {
-		case O_JUNCTION: case O_INDEX: case O_RANDOM: case O_ALL:
-			cli_jsel(&o.js, lo[li].name, 1, "choose one of --junction, --index, --random, --all",
-			         argc, argv);
-			break;
-		case O_SEED: o.js.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
-		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
-		case O_STEP: o.fl.step = cli_double_range("--step", optarg, 1e-9, 10); break;
-		case O_RANGE: o.fl.range = cli_double_range("--range", optarg, 0, 100); break;
-		case O_LMIN: o.fl.lmin = cli_double_range("--lmin", optarg, 1e-9, 100); break;
-		case O_NOBACK: o.fl.back = 0; break;
-		case O_PRED: o.fl.predict = (int)cli_long("--predict", optarg, 0, FL_MAXPREDICT); break;
-		case O_T1: o.fl.t1 = cli_double_range("--t1", optarg, 1e-6, 0.5); break;
-		case O_TOL: o.fl.min.ftol = cli_double_range("--tol", optarg, 1e-16, 1e3); break;
-		case O_ALGO:
-			if (!min_algo_parse(optarg, &o.fl.min.algo))
-				cli_usage_error("--algo: unknown method '%s'", optarg);
-			break;
-		case O_MAXEVAL: o.fl.min.maxeval = cli_long("--maxeval", optarg, 1, 1000000000L); break;
-		case O_NORELAX: o.relax = 0; break;
-		case O_NOPC: o.fl.min.precond = 0; break;
-		case O_LINEAR: o.linear = 1; break;
-		case O_BARRIER: o.barrier = 1; break;
-		case O_SUMMARY: o.summary = 1; break;
-		case O_THREADS: o.threads = (int)cli_long("--threads", optarg, 1, FL_MAXTHREADS); break;
-		case O_MAXMEM: o.max_memory = optarg; break;
-		case O_METHOD:
-			if (fl_linear_method_parse(optarg, &o.method) != MESH_OK)
-				cli_usage_error("--linear-method: unknown method '%s' (dense, sparse, auto)",
-				                optarg);
-			o.method_opt = optarg;
-			break;
-		case 'h': cli_help(help);
-		case O_VERSION: cli_version();
-		default: cli_bad_option(argv, c);
-		}
-	}
+	cli_optdef d[] = {
+		{ "junction", CLI_JUNCTIONS, &o.js, .val = 1, .msg = choose },
+		{ "index", CLI_JUNCTIONS, &o.js, .val = 1, .msg = choose },
+		{ "random", CLI_JUNCTIONS, &o.js, .val = 1, .msg = choose },
+		{ "seed", CLI_ULONG, &o.js.seed, .lo = 0, .hi = 4294967295. },
+		{ "all", CLI_ALL, &o.js, .val = 1, .msg = choose },
+		{ "p0", CLI_MODEL, .to = &o.mo },
+		{ "ka", CLI_MODEL, .to = &o.mo },
+		{ "step", CLI_DOUBLE, &o.fl.step, 1e-9, 10, .group = SWEEP },
+		{ "range", CLI_DOUBLE, &o.fl.range, 0, 100, .group = SWEEP | LEG },
+		{ "lmin", CLI_DOUBLE, &o.fl.lmin, 1e-9, 100, .group = SWEEP | LMIN },
+		{ "no-back", CLI_FLAG, &o.fl.back, .val = 0, .group = SWEEP | LEG },
+		{ "predict", CLI_INT, &o.fl.predict, 0, FL_MAXPREDICT, .group = SWEEP | LEG },
+		{ "t1", CLI_DOUBLE, &o.fl.t1, 1e-6, 0.5, .group = SWEEP },
+		{ "tol", CLI_DOUBLE, &o.fl.min.ftol, .lo = 1e-16, .hi = 1e3 },
+		{ "algo", CLI_PARSE, &o.fl.min.algo, .parse = algo, .msg = "--algo: unknown method '%s'",
+		  .group = SWEEP },
+		{ "maxeval", CLI_LONG, &o.fl.min.maxeval, 1, 1000000000, .group = SWEEP },
+		{ "no-relax", CLI_FLAG, &o.relax, .val = 0 },
+		{ "no-precond", CLI_FLAG, &o.fl.min.precond, .val = 0, .group = SWEEP },
+		{ "linear", CLI_FLAG, &o.linear, .val = 1 },
+		{ "barrier", CLI_FLAG, &o.barrier, .val = 1 },
+		{ "summary", CLI_FLAG, &o.summary, .val = 1 },
+		{ "threads", CLI_INT, &o.threads, .lo = 1, .hi = FL_MAXTHREADS },
+		{ "max-memory", CLI_STRING, .to = &o.max_memory },
+		{ "linear-method", CLI_PARSE, &o.method, .parse = method, .group = METHOD,
+		  .msg = "--linear-method: unknown method '%s' (dense, sparse, auto)" },
+		{ NULL }
+	};
+	int first = cli_parse(argc, argv, d, help);
+	const char *sweep_opt = cli_opt_first(d, SWEEP), *leg_opt = cli_opt_first(d, LEG);
 	o.threads = cli_threads_apply(o.threads, 0);
 	if (o.threads > FL_MAXTHREADS)
 		o.threads = FL_MAXTHREADS;
@@ -196,20 +148,18 @@ static struct opts parse(int argc, char **argv)
 		                o.linear ? "linear" : leg_opt);
 	if (o.summary && !o.barrier)
 		cli_usage_error("--summary is for --barrier");
-	if (o.barrier && !has_lmin)
+	if (o.barrier && !cli_opt_first(d, LMIN))
 		o.fl.lmin = 1e-3;
 	o.max_bytes = cli_max_memory(o.max_memory);
 	if (o.max_memory && !o.linear)
 		cli_usage_error("--max-memory is for --linear: the sweeps need no dense work");
-	if (o.method_opt && !o.linear)
+	if (cli_opt_first(d, METHOD) && !o.linear)
 		cli_usage_error("--linear-method is for --linear");
 	if (o.fl.t1 > 0 && !(o.fl.t1_new < o.fl.t1))
 		cli_usage_error("--t1 must be longer than a new junction (%g)", o.fl.t1_new);
 	if (o.fl.range / o.fl.step > 1e6)
 		cli_usage_error("--range/--step: more than 1e6 points per leg");
-	if (argc - optind > 1)
-		cli_usage_error("at most one input file");
-	o.input = optind < argc ? argv[optind] : NULL;
+	o.input = cli_opt_input(argc, argv, first);
 	return o;
 }
 
