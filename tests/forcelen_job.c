@@ -2,7 +2,10 @@
  * several junctions on one and on two threads give the curves of fl_sweep
  * itself, bit for bit, in the order asked; the counts of points and of
  * misses against the residuals; a callback that stops, a stop flag; the
- * input brought to rest; the short junctions; the rows read back. */
+ * input brought to rest; the short junctions; the rows read back; a
+ * mesh's table by fl_job: the rows of the functions it calls after one
+ * header, a stop, a failed write. */
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,6 +40,43 @@ static int on_curve(void *data, int j, const fl_point *pts, int n)
 	return s->stop_after && s->n >= s->stop_after;
 }
 
+/* fl_job's header callback: how often, the columns. */
+struct heads {
+	int n;
+	const char *cols;
+};
+
+static void on_header(void *data, const mesh *m, const char *cols)
+{
+	struct heads *h = data;
+	(void)m;
+	h->n++;
+	h->cols = cols;
+}
+
+/* The bytes written to f so far, malloc'd, *len of them. */
+static char *contents(FILE *f, long *len)
+{
+	fflush(f);
+	*len = ftell(f);
+	char *b = malloc((size_t)*len + 1);
+	rewind(f);
+	if (b == NULL || fread(b, 1, (size_t)*len, f) != (size_t)*len)
+		*len = -1;
+	return b;
+}
+
+/* Whether f holds exactly what g holds. */
+static int same_bytes(FILE *f, FILE *g)
+{
+	long nf, ng;
+	char *a = contents(f, &nf), *b = contents(g, &ng);
+	int same = nf >= 0 && nf == ng && memcmp(a, b, (size_t)nf) == 0;
+	free(a);
+	free(b);
+	return same;
+}
+
 static void on_progress(void *data, int done, int count)
 {
 	struct seen *s = data;
@@ -68,7 +108,7 @@ static int same_as_single(const struct seen *s, const mesh *m, const model *p,
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(21);
+	tap_plan(27);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(4, 4, &m, &err);
@@ -212,6 +252,73 @@ int main(void)
 	ok(st == MESH_OK && nrow == NSEL && good, "linear rows: one per junction, its a1");
 	fclose(f);
 	fl_linear_free(lr);
+
+	/* a mesh's table by fl_job: two meshes, one header */
+	fl_job_opts jo = { .kind = FL_JOB_SWEEPS, .fl = o, .threads = 2 };
+	struct heads h = { 0 };
+	fl_job_io jio = { on_header, NULL, &h };
+	fl_job_tally t = { 0 };
+	f = tmpfile();
+	FILE *g = tmpfile();
+	st = fl_job(f, m, &p, &jo, sel, NSEL, NULL, &jio, &t, &err);
+	int st2 = fl_job(f, m, &p, &jo, sel, NSEL, NULL, &jio, &t, &err);
+	for (int rep = 0; rep < 2; rep++)
+		for (int k = 0; k < NSEL; k++) {
+			fl_work *w = fl_work_alloc(m);
+			fl_point ref[MAXPTS];
+			int n;
+			fl_sweep(m, &p, sel[k], &o, w, ref, &n, NULL);
+			fl_curve_write(g, p.p0, m, sel[k], ref, n);
+			fl_work_free(w);
+		}
+	ok(st == MESH_OK && st2 == MESH_OK && same_bytes(f, g),
+	   "fl_job, sweeps: fl_sweep's curves as fl_curve_write writes them, twice");
+	ok(h.n == 1 && strcmp(h.cols, FL_CURVE_COLUMNS) == 0 && t.header == 1 &&
+	   t.written == 2 * NSEL && t.asked == 2 * NSEL && t.points == 2 * total &&
+	   t.nstatus[FL_OK] == 2 * total,
+	   "one header, FL_CURVE_COLUMNS; the tally counts both meshes' curves and points");
+	fclose(f);
+	fclose(g);
+
+	jo.kind = FL_JOB_LINEAR;
+	jo.method = FL_LIN_DENSE;
+	jo.max_bytes = INFINITY;
+	h = (struct heads){ 0 };
+	t = (fl_job_tally){ 0 };
+	f = tmpfile();
+	g = tmpfile();
+	st = fl_job(f, m, &p, &jo, sel, NSEL, NULL, &jio, &t, &err);
+	fl_linear_alloc(m, &p, 1e-10, INFINITY, &lr, &err);
+	fl_linear_write(g, lr, m, p.p0, sel, NSEL);
+	fl_linear_free(lr);
+	ok(st == MESH_OK && same_bytes(f, g) && h.n == 1 &&
+	   strcmp(h.cols, FL_LINEAR_COLUMNS) == 0 && !t.doubt,
+	   "fl_job, linear: fl_linear_write's rows after FL_LINEAR_COLUMNS, the dense cut sure");
+	fclose(f);
+	fclose(g);
+
+	/* barriers: a stop before they are whole leaves no row, no header */
+	jo.kind = FL_JOB_BARRIER;
+	jo.fl.lmin = 1e-3;
+	h = (struct heads){ 0 };
+	t = (fl_job_tally){ 0 };
+	f = tmpfile();
+	stop = 1;
+	st = fl_job(f, m, &p, &jo, sel, NSEL, &stop, &jio, &t, &err);
+	ok(st == MESH_OK && ftell(f) == 0 && h.n == 0 && t.asked == NSEL && t.written == 0,
+	   "fl_job, barriers stopped: MESH_OK, nothing written, %d asked", t.asked);
+	fclose(f);
+
+	/* a failed write ends the sweeps: MESH_EIO, its errno, the stop set */
+	f = fopen("/dev/full", "w");
+	jo = (fl_job_opts){ .kind = FL_JOB_SWEEPS, .fl = o, .threads = 1 };
+	t = (fl_job_tally){ 0 };
+	stop = 0;
+	st = f ? fl_job(f, m, &p, &jo, sel, NSEL, &stop, NULL, &t, &err) : MESH_OK;
+	ok(f && st == MESH_EIO && t.werr == ENOSPC, "a write to /dev/full: MESH_EIO, ENOSPC");
+	ok(stop == SIGPIPE && t.written == 0, "the stop set, no curve counted as written");
+	if (f)
+		fclose(f);
 	mesh_free(m);
 	return tap_done();
 }

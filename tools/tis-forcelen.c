@@ -1,17 +1,10 @@
 /* tis-forcelen - quasistatic force-extension curves f(l) of junctions. */
 #include <errno.h>
-#include <getopt.h>
-#include <math.h>
 #include <stdlib.h>
-#include <string.h>
-
 
 #include "cli.h"
 #include "cli_rest.h"
-#include "select.h"
 #include "forcelen.h"
-#include "barrier.h"
-#include "energy.h"
 
 static const char usage[] =
 	"(--junction A B | --index K | --random K [--seed S] | --all) [options] [MESH]";
@@ -86,12 +79,9 @@ static const char help[] =
 struct opts {
 	jsel js;
 	cli_model_opts mo;
-	fl_opts fl;
-	int relax, linear, threads;
-	int barrier, summary;     /* --barrier, --summary */
-	int method;               /* --linear-method */
+	fl_job_opts j;            /* j.fl: the sweeps' options */
+	int relax, linear, barrier;
 	const char *max_memory;   /* --max-memory, NULL: the memory available */
-	double max_bytes;
 	const char *input;
 };
 
@@ -103,8 +93,8 @@ static struct opts parse(int argc, char **argv)
 	/* the options only a sweep uses, only its legs, --lmin, --linear-method */
 	enum { SWEEP = 1, LEG = 2, LMIN = 4, METHOD = 8 };
 	static const char choose[] = "choose one of --junction, --index, --random, --all";
-	struct opts o = { .js = { .kind = JSEL_NONE, .seed = 1 }, .relax = 1, .threads = 0 };
-	fl_opts_init(&o.fl);
+	struct opts o = { .js = { .kind = JSEL_NONE, .seed = 1 }, .relax = 1 };
+	fl_opts_init(&o.j.fl);
 	cli_optdef d[] = {
 		{ "junction", CLI_JUNCTIONS, &o.js, .val = 1, .msg = choose },
 		{ "index", CLI_JUNCTIONS, &o.js, .val = 1, .msg = choose },
@@ -113,32 +103,32 @@ static struct opts parse(int argc, char **argv)
 		{ "all", CLI_ALL, &o.js, .val = 1, .msg = choose },
 		{ "p0", CLI_MODEL, .to = &o.mo },
 		{ "ka", CLI_MODEL, .to = &o.mo },
-		{ "step", CLI_DOUBLE, &o.fl.step, 1e-9, 10, .group = SWEEP },
-		{ "range", CLI_DOUBLE, &o.fl.range, 0, 100, .group = SWEEP | LEG },
-		{ "lmin", CLI_DOUBLE, &o.fl.lmin, 1e-9, 100, .group = SWEEP | LMIN },
-		{ "no-back", CLI_FLAG, &o.fl.back, .val = 0, .group = SWEEP | LEG },
-		{ "predict", CLI_INT, &o.fl.predict, 0, FL_MAXPREDICT, .group = SWEEP | LEG },
-		{ "t1", CLI_DOUBLE, &o.fl.t1, 1e-6, 0.5, .group = SWEEP },
-		{ "tol", CLI_DOUBLE, &o.fl.min.ftol, .lo = 1e-16, .hi = 1e3 },
-		{ "algo", CLI_PARSE, &o.fl.min.algo, .parse = algo, .msg = "--algo: unknown method '%s'",
+		{ "step", CLI_DOUBLE, &o.j.fl.step, 1e-9, 10, .group = SWEEP },
+		{ "range", CLI_DOUBLE, &o.j.fl.range, 0, 100, .group = SWEEP | LEG },
+		{ "lmin", CLI_DOUBLE, &o.j.fl.lmin, 1e-9, 100, .group = SWEEP | LMIN },
+		{ "no-back", CLI_FLAG, &o.j.fl.back, .val = 0, .group = SWEEP | LEG },
+		{ "predict", CLI_INT, &o.j.fl.predict, 0, FL_MAXPREDICT, .group = SWEEP | LEG },
+		{ "t1", CLI_DOUBLE, &o.j.fl.t1, 1e-6, 0.5, .group = SWEEP },
+		{ "tol", CLI_DOUBLE, &o.j.fl.min.ftol, .lo = 1e-16, .hi = 1e3 },
+		{ "algo", CLI_PARSE, &o.j.fl.min.algo, .parse = algo, .msg = "--algo: unknown method '%s'",
 		  .group = SWEEP },
-		{ "maxeval", CLI_LONG, &o.fl.min.maxeval, 1, 1000000000, .group = SWEEP },
+		{ "maxeval", CLI_LONG, &o.j.fl.min.maxeval, 1, 1000000000, .group = SWEEP },
 		{ "no-relax", CLI_FLAG, &o.relax, .val = 0 },
-		{ "no-precond", CLI_FLAG, &o.fl.min.precond, .val = 0, .group = SWEEP },
+		{ "no-precond", CLI_FLAG, &o.j.fl.min.precond, .val = 0, .group = SWEEP },
 		{ "linear", CLI_FLAG, &o.linear, .val = 1 },
 		{ "barrier", CLI_FLAG, &o.barrier, .val = 1 },
-		{ "summary", CLI_FLAG, &o.summary, .val = 1 },
-		{ "threads", CLI_INT, &o.threads, .lo = 1, .hi = FL_MAXTHREADS },
+		{ "summary", CLI_FLAG, &o.j.summary, .val = 1 },
+		{ "threads", CLI_INT, &o.j.threads, .lo = 1, .hi = FL_MAXTHREADS },
 		{ "max-memory", CLI_STRING, .to = &o.max_memory },
-		{ "linear-method", CLI_PARSE, &o.method, .parse = method, .group = METHOD,
+		{ "linear-method", CLI_PARSE, &o.j.method, .parse = method, .group = METHOD,
 		  .msg = "--linear-method: unknown method '%s' (dense, sparse, auto)" },
 		{ NULL }
 	};
 	int first = cli_parse(argc, argv, d, help);
 	const char *sweep_opt = cli_opt_first(d, SWEEP), *leg_opt = cli_opt_first(d, LEG);
-	o.threads = cli_threads_apply(o.threads, 0);
-	if (o.threads > FL_MAXTHREADS)
-		o.threads = FL_MAXTHREADS;
+	o.j.threads = cli_threads_apply(o.j.threads, 0);
+	if (o.j.threads > FL_MAXTHREADS)
+		o.j.threads = FL_MAXTHREADS;
 	if (o.js.kind == JSEL_NONE)
 		cli_usage_error("choose junctions with --junction, --index, --random or --all");
 	if (o.linear && sweep_opt)
@@ -146,20 +136,21 @@ static struct opts parse(int argc, char **argv)
 	if (o.barrier && (o.linear || leg_opt))
 		cli_usage_error("--barrier shrinks each junction once: --%s does nothing with it",
 		                o.linear ? "linear" : leg_opt);
-	if (o.summary && !o.barrier)
+	if (o.j.summary && !o.barrier)
 		cli_usage_error("--summary is for --barrier");
 	if (o.barrier && !cli_opt_first(d, LMIN))
-		o.fl.lmin = 1e-3;
-	o.max_bytes = cli_max_memory(o.max_memory);
+		o.j.fl.lmin = 1e-3;
+	o.j.max_bytes = cli_max_memory(o.max_memory);
 	if (o.max_memory && !o.linear)
 		cli_usage_error("--max-memory is for --linear: the sweeps need no dense work");
 	if (cli_opt_first(d, METHOD) && !o.linear)
 		cli_usage_error("--linear-method is for --linear");
-	if (o.fl.t1 > 0 && !(o.fl.t1_new < o.fl.t1))
-		cli_usage_error("--t1 must be longer than a new junction (%g)", o.fl.t1_new);
-	if (o.fl.range / o.fl.step > 1e6)
+	if (o.j.fl.t1 > 0 && !(o.j.fl.t1_new < o.j.fl.t1))
+		cli_usage_error("--t1 must be longer than a new junction (%g)", o.j.fl.t1_new);
+	if (o.j.fl.range / o.j.fl.step > 1e6)
 		cli_usage_error("--range/--step: more than 1e6 points per leg");
 	o.input = cli_opt_input(argc, argv, first);
+	o.j.kind = o.barrier ? FL_JOB_BARRIER : o.linear ? FL_JOB_LINEAR : FL_JOB_SWEEPS;
 	return o;
 }
 
@@ -170,169 +161,54 @@ static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 	mesh_error err;
 	if (junction_select(m, &o->js, &sel, &n, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
-	int nshort = o->linear ? 0 : fl_count_short(m, sel, n, &o->fl);
+	int nshort = o->linear ? 0 : fl_count_short(m, sel, n, &o->j.fl);
 	if (nshort)
 		cli_warn("%d of %d junctions are no longer than --lmin %g: no inward legs for them",
-		         nshort, n, o->fl.lmin);
+		         nshort, n, o->j.fl.lmin);
 	*count = n;
 	return sel;
 }
 
-/* The output of the sweeps of one mesh. */
-struct out {
-	const mesh *m;
-	const char *cols;  /* the header, before the first curve */
-	int *header;
-	double p0;
-	cli_progress pr;
-	int werr;          /* errno of a failed write to stdout */
-};
-
-static int write_curve(void *data, int j, const fl_point *pts, int n)
+static void header(void *data, const mesh *m, const char *cols)
 {
-	struct out *u = data;
-	if (!(*u->header)++)
-		cli_table_header(stdout, u->m, u->cols);
-	fl_curve_write(stdout, u->p0, u->m, j, pts, n);
-	errno = 0;
-	if (fflush(stdout) != 0 || ferror(stdout)) {
-		u->werr = errno ? errno : EIO;
-		cli_stop = SIGPIPE;   /* nobody reads the rest: stop the sweeps */
-		return 1;
-	}
-	return 0;
+	(void)data;
+	cli_table_header(stdout, m, cols);
 }
 
 static void progress(void *data, int done, int count)
 {
-	struct out *u = data;
-	if (cli_progress_due(&u->pr, done == count))
+	if (cli_progress_due(data, done == count))
 		fprintf(stderr, "\r%s: %d/%d curves   ", cli_name, done, count);
 }
 
-/* The sparse method says where its answer may not be the dense cut's:
- * eigenvalues too near the zero cut for its certificate (linresp.h);
- * such a mesh is not at rest or sits at a rigidity transition. */
-static void linear_warn(const fl_linear *lr, int unsure, int count, double p0)
-{
-	fl_lin_summary s;
-	fl_linear_summary(lr, &s);
-	if (s.method != FL_LIN_SPARSE || (s.nwindow <= 0 && unsure == 0))
-		return;
-	cli_warn("p0 %g: %d eigenvalues of the hessian lie within a factor 10 of the zero cut "
-	         "(nneg %d): whether a1 = 0 is not certain for %d of %d junctions "
-	         "(--linear-method dense decides by the cut itself)", p0, s.nwindow, s.nneg,
-	         unsure, count);
-}
-
-/* What the meshes came to: rows written of those asked for, the points
- * and their statuses (sweeps), the barriers not whole. */
-struct tally {
-	int nmesh, header, written, asked, allpoints, badbar;
-	int nstatus[FL_NSTATUS];
-};
-
-/* --barrier: a mesh's rows whole or none, so a stop leaves no junction's
- * row behind (the header neither, before the first mesh's). */
-static void barrier_mesh(const struct opts *o, const mesh *m, const model *p, const int *sel,
-                         int count, struct tally *t)
-{
-	bar_opts bo = { .step = o->fl.step, .lmin = o->fl.lmin, .min = o->fl.min };
-	mesh_error err;
-	int nbad = 0;
-	char *buf = NULL;
-	size_t len = 0;
-	FILE *mf = open_memstream(&buf, &len);
-	if (mf == NULL)
-		cli_die(EXIT_INPUT, "out of memory");
-	int st = bar_job(mf, m, p, sel, count, &bo, o->threads, o->summary, &nbad, &cli_stop, &err);
-	if (fclose(mf) != 0)
-		cli_die(EXIT_INPUT, "out of memory");
-	if (st != MESH_OK && !cli_stop)
-		cli_die(EXIT_INPUT, "%s", err.msg);
-	t->asked += count;
-	if (st == MESH_OK) {
-		if (!t->header++)
-			cli_table_header(stdout, m, o->summary ? BAR_SUMMARY_COLUMNS : BAR_COLUMNS);
-		fwrite(buf, 1, len, stdout);
-		t->written += count;
-	}
-	free(buf);
-	t->badbar += nbad;
-}
-
-/* --linear: a row per junction. */
-static void linear_mesh(const struct opts *o, const mesh *m, const model *p, const int *sel,
-                        int count, struct tally *t)
-{
-	mesh_error err;
-	if (!t->header++)
-		cli_table_header(stdout, m, FL_LINEAR_COLUMNS);
-	fl_linear *lr;
-	int st = fl_linear_alloc_method(m, p, 1e-10, o->method, o->max_bytes, &lr, &err);
-	if (st != MESH_OK)
-		cli_fits(st, &err, o->max_memory != NULL);
-	int unsure = fl_linear_write(stdout, lr, m, p->p0, sel, count);
-	if (unsure < 0)
-		cli_die(EXIT_INPUT, "out of memory");
-	linear_warn(lr, unsure, count, p->p0);
-	fl_linear_free(lr);
-}
-
-/* The sweeps: each whole curve written as soon as it and those before it
- * are done. */
-static void sweep_mesh(const struct opts *o, const mesh *m, const model *p, const int *sel,
-                       int count, struct tally *t)
-{
-	struct out u = { .m = m, .cols = FL_CURVE_COLUMNS, .header = &t->header, .p0 = p->p0 };
-	cli_progress_init(&u.pr);
-	fl_sweeps_io io = { write_curve, progress, &u };
-	fl_sweeps_result r;
-	mesh_error err;
-	int st = fl_sweeps(m, p, &o->fl, sel, count, o->threads, &cli_stop, &io, &r, &err);
-	if (u.pr.tty)
-		fputc('\n', stderr);
-	if (st == MESH_EIO) {
-		errno = u.werr;
-		cli_write_error("stdout");
-	}
-	if (st != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
-	t->written += r.written;
-	t->asked += count;
-	t->allpoints += r.points;
-	for (int k = 0; k < FL_NSTATUS; k++)
-		t->nstatus[k] += r.nstatus[k];
-}
-
 /* The end: a stop, no mesh, points without a minimum or not converged. */
-static void finish(const struct opts *o, const struct tally *t)
+static void finish(const struct opts *o, const fl_job_tally *t, int nmesh)
 {
 	const char *what = o->barrier ? "barriers" : "curves";
 	if (cli_stop && !t->header)
-		cli_interrupted(!t->nmesh ? "before a mesh came in" : o->barrier ? "before a mesh's barriers "
+		cli_interrupted(!nmesh ? "before a mesh came in" : o->barrier ? "before a mesh's barriers "
 		                "were whole" : "before a curve was whole");
 	if (cli_stop) {
 		printf("# %s interrupted by %s: %d of %d %s written%s, whole %s only\n",
 		       cli_name, cli_stop_name(), t->written, t->asked, what,
-		       t->nmesh > 1 ? " (of the meshes read so far)" : "", o->barrier ? "meshes" : what);
+		       nmesh > 1 ? " (of the meshes read so far)" : "", o->barrier ? "meshes" : what);
 		cli_finish_status(EXIT_NOCONV, "interrupted by %s: wrote %d of %d %s, whole %s only",
 		                  cli_stop_name(), t->written, t->asked, what,
 		                  o->barrier ? "meshes" : what);
 	}
-	if (t->nmesh == 0)
+	if (nmesh == 0)
 		cli_no_mesh(o->input);
 	if (t->badbar)
 		cli_finish_status(EXIT_NOCONV, "%d barriers not whole (status not ok)", t->badbar);
 	if (t->nstatus[FL_NOMIN])
 		cli_warn("%d of %d points have no minimum at the input's topology (a junction ran to "
-		         "zero length): %s", t->nstatus[FL_NOMIN], t->allpoints,
-		         o->fl.t1 > 0 ? "no T1 could resolve them" :
+		         "zero length): %s", t->nstatus[FL_NOMIN], t->points,
+		         o->j.fl.t1 > 0 ? "no T1 could resolve them" :
 		         "their legs end there (--t1 L carries the sweeps through a T1)");
 	if (t->nstatus[FL_NOCONV])
 		cli_finish_status(EXIT_NOCONV, "%d of %d points did not converge to the force "
 		                  "tolerance %g (status not-converged)", t->nstatus[FL_NOCONV],
-		                  t->allpoints, o->fl.min.ftol);
+		                  t->points, o->j.fl.min.ftol);
 	cli_finish();
 }
 
@@ -343,34 +219,45 @@ int main(int argc, char **argv)
 	FILE *in = cli_open(o.input);
 	long line = 0;
 	mesh *m;
-	struct tally t = { 0 };
+	int nmesh = 0;
+	fl_job_tally t = { 0 };
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
-		t.nmesh++;
+		nmesh++;
 		cli_refuse_held(m, o.input);
 		model p = cli_model(m, &o.mo);
 		mesh_error err;
 		/* before the relaxation, the header or anything dense */
 		if (o.linear)
-			cli_fits(fl_linear_fits_method(m, o.method, o.max_bytes, &err), &err,
+			cli_fits(fl_linear_fits_method(m, o.j.method, o.j.max_bytes, &err), &err,
 			         o.max_memory != NULL);
 		/* so that l0 is a rest length; --no-relax measures the mesh as it is */
-		cli_rest_opts ro = { .tol = o.fl.min.ftol, .relax = o.relax };
+		cli_rest_opts ro = { .tol = o.j.fl.min.ftol, .relax = o.relax };
 		cli_rest(m, &p, &ro, NULL);
 		int count;
 		int *sel = select_junctions(&o, m, &count);
 		/* the header waits for a valid mesh and junction (bad input
 		 * leaves no output) and for a whole curve (a run stopped before
 		 * one leaves none either) */
-		if (o.barrier)
-			barrier_mesh(&o, m, &p, sel, count, &t);
-		else if (o.linear)
-			linear_mesh(&o, m, &p, sel, count, &t);
-		else
-			sweep_mesh(&o, m, &p, sel, count, &t);
+		cli_progress pr;
+		cli_progress_init(&pr);
+		fl_job_io io = { header, progress, &pr };
+		int st = fl_job(stdout, m, &p, &o.j, sel, count, &cli_stop, &io, &t, &err);
+		if (o.j.kind == FL_JOB_SWEEPS && pr.tty)
+			fputc('\n', stderr);
+		if (st == MESH_EIO) {
+			errno = t.werr;
+			cli_write_error("stdout");
+		}
+		cli_fits(st, &err, o.max_memory != NULL);
+		if (t.doubt)
+			cli_warn("p0 %g: %d eigenvalues of the hessian lie within a factor 10 of the zero "
+			         "cut (nneg %d): whether a1 = 0 is not certain for %d of %d junctions "
+			         "(--linear-method dense decides by the cut itself)", p.p0, t.nwindow,
+			         t.nneg, t.unsure, count);
 		free(sel);
 		mesh_free(m);
 	}
 	if (in != stdin)
 		fclose(in);
-	finish(&o, &t);
+	finish(&o, &t, nmesh);
 }

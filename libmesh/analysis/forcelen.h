@@ -227,4 +227,62 @@ int fl_sweeps(const mesh *m, const model *p, const fl_opts *o, const int *sel, i
               int threads, const volatile sig_atomic_t *stop, const fl_sweeps_io *io,
               fl_sweeps_result *r, mesh_error *err);
 
+/* ---- a mesh's table, of whichever kind (forcelen_job.c) ---- */
+
+/* What fl_job makes of each mesh: the sweeps (fl_sweeps, a curve of
+ * rows per junction), the linear response (fl_linear_alloc_method with
+ * method, at most max_bytes: a row per junction) or the T1 energy
+ * barriers (bar_job with fl's step, lmin and min; a row per junction or,
+ * with summary, one per mesh). */
+enum { FL_JOB_SWEEPS, FL_JOB_LINEAR, FL_JOB_BARRIER };
+typedef struct {
+	int kind;            /* FL_JOB_* */
+	fl_opts fl;
+	int threads;         /* the sweeps' and the barriers' */
+	int summary;         /* FL_JOB_BARRIER */
+	int method;          /* FL_JOB_LINEAR: FL_LIN_DENSE, _SPARSE, _AUTO */
+	double max_bytes;    /* FL_JOB_LINEAR */
+} fl_job_opts;
+
+/* Callbacks of fl_job, either NULL.  header: the table's header, once for
+ * all meshes (fl_job_tally.header), just before its first rows are
+ * written to the stream, with the mesh they are of.  progress: as
+ * fl_sweeps_io's. */
+typedef struct {
+	void (*header)(void *data, const mesh *m, const char *columns);
+	void (*progress)(void *data, int done, int count);
+	void *data;
+} fl_job_io;
+
+/* What fl_job did with the meshes of a stream; zero it before the first. */
+typedef struct {
+	int header;                   /* the header is written */
+	int written, asked;           /* sweeps, barriers: junctions whose rows
+	                                 were written, of those asked for */
+	int points;                   /* the sweeps' points, and of each */
+	int nstatus[FL_NSTATUS];      /* status (enum fl_status) */
+	int badbar;                   /* barriers whose status is not ok */
+	int doubt, nwindow, nneg;     /* linear, the last mesh: doubt when the
+	                                 sparse method cannot certify every a1 = 0
+	                                 (fl_lin_summary's nwindow > 0, or unsure
+	                                 rows: fl_linear_write), its nwindow and
+	                                 nneg */
+	int unsure;
+	int werr;                     /* MESH_EIO: errno of the failed write */
+} fl_job_tally;
+
+/* The table of the count junctions sel of m (at rest) at model p, as o
+ * says, written to f after io->header; t counts what was done.  Sweeps:
+ * every whole curve written (and f flushed) as soon as it and those
+ * before it are; when a write fails, *stop is set to SIGPIPE (the
+ * sweeps in progress end) and fl_job returns MESH_EIO (t->werr).
+ * Barriers: a mesh's rows all or none: none when *stop is set before
+ * they are whole (MESH_OK: t->asked counts them, t->written not).
+ * Linear: the header before the linear response is made.  MESH_OK, or
+ * the error of fl_sweeps, bar_job or fl_linear_alloc_method (MESH_ETOOBIG
+ * among them), with err's message. */
+int fl_job(FILE *f, const mesh *m, const model *p, const fl_job_opts *o, const int *sel,
+           int count, volatile sig_atomic_t *stop, const fl_job_io *io, fl_job_tally *t,
+           mesh_error *err);
+
 #endif

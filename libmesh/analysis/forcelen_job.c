@@ -2,8 +2,10 @@
  * to rest, the junctions swept on threads with the curves handed out in
  * order, the rows of its tables.  See forcelen.h. */
 #include "forcelen.h"
+#include "barrier.h"
 #include "measure.h"
 
+#include <errno.h>
 #include <math.h>
 
 #include <pthread.h>
@@ -238,4 +240,129 @@ out:
 	free(jb.nres);
 	free(jb.status);
 	return st;
+}
+
+/* The header, before a table's first rows. */
+static void job_header(const fl_job_io *io, fl_job_tally *t, const mesh *m, const char *cols)
+{
+	if (t->header)
+		return;
+	t->header = 1;
+	if (io->header)
+		io->header(io->data, m, cols);
+}
+
+/* A mesh's barriers, buffered: its rows whole or none, so a stop leaves
+ * no junction's row behind (the header neither, before the first
+ * mesh's). */
+static int job_barriers(FILE *f, const mesh *m, const model *p, const fl_job_opts *o,
+                        const int *sel, int count, volatile sig_atomic_t *stop,
+                        const fl_job_io *io, fl_job_tally *t, mesh_error *err)
+{
+	bar_opts bo = { .step = o->fl.step, .lmin = o->fl.lmin, .min = o->fl.min };
+	int nbad = 0;
+	char *buf = NULL;
+	size_t len = 0;
+	FILE *mf = open_memstream(&buf, &len);
+	if (mf == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	int st = bar_job(mf, m, p, sel, count, &bo, o->threads, o->summary, &nbad, stop, err);
+	if (fclose(mf) != 0) {
+		free(buf);
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
+	t->asked += count;
+	if (st == MESH_OK) {
+		job_header(io, t, m, o->summary ? BAR_SUMMARY_COLUMNS : BAR_COLUMNS);
+		fwrite(buf, 1, len, f);
+		t->written += count;
+	}
+	free(buf);
+	t->badbar += nbad;
+	return st != MESH_OK && stop && *stop ? MESH_OK : st;
+}
+
+static int job_linear(FILE *f, const mesh *m, const model *p, const fl_job_opts *o,
+                      const int *sel, int count, const fl_job_io *io, fl_job_tally *t,
+                      mesh_error *err)
+{
+	job_header(io, t, m, FL_LINEAR_COLUMNS);
+	fl_linear *lr;
+	int st = fl_linear_alloc_method(m, p, 1e-10, o->method, o->max_bytes, &lr, err);
+	if (st != MESH_OK)
+		return st;
+	int unsure = fl_linear_write(f, lr, m, p->p0, sel, count);
+	if (unsure < 0) {
+		fl_linear_free(lr);
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	}
+	/* the sparse method says where its answer may not be the dense
+	 * cut's: eigenvalues too near the zero cut for its certificate
+	 * (linresp.h); such a mesh is not at rest or sits at a rigidity
+	 * transition */
+	fl_lin_summary s;
+	fl_linear_summary(lr, &s);
+	t->doubt = s.method == FL_LIN_SPARSE && (s.nwindow > 0 || unsure != 0);
+	t->nwindow = s.nwindow;
+	t->nneg = s.nneg;
+	t->unsure = unsure;
+	fl_linear_free(lr);
+	return MESH_OK;
+}
+
+/* The sweeps' output: each whole curve written as it comes. */
+struct job_out {
+	FILE *f;
+	const mesh *m;
+	double p0;
+	const fl_job_io *io;
+	fl_job_tally *t;
+	volatile sig_atomic_t *stop;
+};
+
+static int job_curve(void *data, int j, const fl_point *pts, int n)
+{
+	struct job_out *u = data;
+	job_header(u->io, u->t, u->m, FL_CURVE_COLUMNS);
+	fl_curve_write(u->f, u->p0, u->m, j, pts, n);
+	errno = 0;
+	if (fflush(u->f) != 0 || ferror(u->f)) {
+		u->t->werr = errno ? errno : EIO;
+		if (u->stop)
+			*u->stop = SIGPIPE;   /* nobody reads the rest: stop the sweeps */
+		return 1;
+	}
+	return 0;
+}
+
+static void job_progress(void *data, int done, int count)
+{
+	struct job_out *u = data;
+	if (u->io->progress)
+		u->io->progress(u->io->data, done, count);
+}
+
+int fl_job(FILE *f, const mesh *m, const model *p, const fl_job_opts *o, const int *sel,
+           int count, volatile sig_atomic_t *stop, const fl_job_io *io, fl_job_tally *t,
+           mesh_error *err)
+{
+	static const fl_job_io none = { 0 };
+	if (io == NULL)
+		io = &none;
+	if (o->kind == FL_JOB_BARRIER)
+		return job_barriers(f, m, p, o, sel, count, stop, io, t, err);
+	if (o->kind == FL_JOB_LINEAR)
+		return job_linear(f, m, p, o, sel, count, io, t, err);
+	struct job_out u = { f, m, p->p0, io, t, stop };
+	fl_sweeps_io sio = { job_curve, job_progress, &u };
+	fl_sweeps_result r;
+	int st = fl_sweeps(m, p, &o->fl, sel, count, o->threads, stop, &sio, &r, err);
+	if (st != MESH_OK)
+		return st;
+	t->written += r.written;
+	t->asked += count;
+	t->points += r.points;
+	for (int k = 0; k < FL_NSTATUS; k++)
+		t->nstatus[k] += r.nstatus[k];
+	return MESH_OK;
 }
