@@ -646,6 +646,8 @@ struct jobrec {
 	double first, last;
 	volatile sig_atomic_t *stop;
 	double stop_at;
+	FILE *trace, *rows;   /* the trace act_job writes; the rows seen, written here */
+	int cols_ok;          /* begin got the one-junction trace's columns */
 };
 
 static void job_row(void *data, const act_row *w)
@@ -654,6 +656,29 @@ static void job_row(void *data, const act_row *w)
 	if (q->nrow++ == 0)
 		q->first = w->t;
 	q->last = w->t;
+	if (q->rows)
+		act_trace_write(q->rows, w, 0);
+}
+
+static void job_begin(void *data, mesh *m, act_tables *t)
+{
+	struct jobrec *q = data;
+	(void)m;
+	q->cols_ok = strcmp(t->cols[ACT_TRACE], "t\tl\tdg\tldot\tW") == 0 &&
+	             strcmp(t->cols[ACT_EVENTS], ACT_EVENT_COLUMNS) == 0;
+	t->f[ACT_TRACE] = q->trace;
+}
+
+/* Whether f and g hold the same bytes, and some. */
+static int same_file(FILE *f, FILE *g)
+{
+	long n = ftell(f);
+	int same = n > 0 && n == ftell(g);
+	rewind(f);
+	rewind(g);
+	for (long i = 0; same && i < n; i++)
+		same = getc(f) == getc(g);
+	return same;
 }
 
 static void job_step(void *data, const act *a)
@@ -672,8 +697,8 @@ static void job(void)
 	o.tau = 1 / 0.19;
 	o.gamma0 = 0.11;
 	act_job_opts jo = { .perturb = -1, .seed = 1, .t_end = 250, .trace_every = 1 };
-	struct jobrec q = { 0 };
-	act_io io = { NULL, job_row, NULL, job_step, &q };
+	struct jobrec q = { .trace = tmpfile(), .rows = tmpfile() };
+	act_io io = { job_begin, job_row, NULL, job_step, &q };
 	act_result r;
 	mesh_error err;
 	mesh *full = mesh_copy(m0);
@@ -682,6 +707,13 @@ static void job(void)
 	   q.first == 0 && q.last == 250 && mesh_state_get(full, "active_t") == NULL &&
 	   r.lmin < r.lmax && r.l_end >= r.lmin && r.l_end <= r.lmax,
 	   "act_job: 251 rows from t 0 to t 250, no state lines, l_end within [l_min, l_max]");
+	ok(q.cols_ok && same_file(q.trace, q.rows) && !act_stopped(&r, "SIGTERM", NULL, 0),
+	   "its trace: the columns t l dg ldot W, a row as act_trace_write writes each row "
+	   "passed; a run to its end not stopped");
+	fclose(q.trace);
+	fclose(q.rows);
+	io.begin = NULL;
+	q = (struct jobrec){ 0 };
 
 	volatile sig_atomic_t stop = 0;
 	struct jobrec q2 = { .stop = &stop, .stop_at = 30 };
@@ -693,6 +725,10 @@ static void job(void)
 	   strtod(ts, NULL) == ACT_BDF_CHECKPOINT,
 	   "a stop at t 30 waits for the checkpoint at %g (stopped at %g)", (double)ACT_BDF_CHECKPOINT,
 	   r.t_end);
+	char note[64], want[64];
+	snprintf(want, sizeof want, "interrupted by SIGTERM at t %.10g", r.t_end);
+	ok(act_stopped(&r, "SIGTERM", note, sizeof note) && strcmp(note, want) == 0,
+	   "act_stopped: '%s'", note);
 	io.data = &q;
 	st = act_job(part, &p, &o, &jo, 0, NULL, &io, &r, &err);
 	ok(st == MESH_OK && r.why == ACT_END_TIME && part->nv == full->nv && part->nj == full->nj &&
@@ -802,7 +838,7 @@ static void fresh_resume(void)
 
 int main(void)
 {
-	tap_plan(4 + 5 + 6 + 2 + 3 + 2 + 1 + 2 + 4 + 1);
+	tap_plan(4 + 5 + 6 + 2 + 3 + 2 + 1 + 2 + 6 + 1);
 	job();
 	fresh_resume();
 	nonfinite();

@@ -163,37 +163,27 @@ static struct opts parse(int argc, char **argv)
 /* The outputs of one run. */
 struct out {
 	const struct opts *o;
-	int j;              /* the junction traced (-1 in network mode) */
 	int jfile;          /* the number in the file names (-1: as given) */
-	FILE *trace, *events;
+	FILE *f[2];         /* the trace and the events (act_tables) */
 	cli_runtable *rt;   /* one run: its trace and events, which a run that
 	                       continues it goes on writing (NULL: several) */
 	cli_progress pr;
 };
 
-static void progress(const struct out *u, double t, long nstep, long nt1)
+static void progress(const struct out *u, const act_counts *c)
 {
-	fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, t, u->o->jo.t_end, nstep,
-		nt1);
+	fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, c->t, u->o->jo.t_end,
+	        c->nstep, c->nt1);
 }
 
 static void on_step(void *data, const act *a)
 {
 	struct out *u = data;
-	if (!cli_progress_due(&u->pr, 0))
-		return;
 	act_counts c;
-	act_counts_get(a, &c);
-	progress(u, c.t, c.nstep, c.nt1);
-}
-
-static void on_row(void *data, const act_row *w)
-{
-	struct out *u = data;
-	if (u->trace == NULL)
-		return;
-	act_trace_write(u->trace, w, u->j);
-	fflush(u->trace);   /* a long run can be watched with tail -f */
+	if (cli_progress_due(&u->pr, 0)) {
+		act_counts_get(a, &c);
+		progress(u, &c);
+	}
 }
 
 static void on_frame(void *data, mesh *m, double t)
@@ -202,43 +192,17 @@ static void on_frame(void *data, mesh *m, double t)
 	cli_write_frame(m, t);
 }
 
-static void on_t1(void *data, double t, int j, const int lose[2], const int gain[2],
-                  double lbefore, int kind, double pull)
+static void on_begin(void *data, mesh *m, act_tables *t)
 {
 	struct out *u = data;
-	act_event_write(u->events, t, j, lose, gain, lbefore, u->o->a.t1_rule == ACT_T1_HOLD, kind, pull);
-}
-
-static void on_begin(void *data, act *a, mesh *m)
-{
-	struct out *u = data;
-	if (u->o->trace) {
-		char cols[4096];
-		act_trace_columns(cols, sizeof cols, u->j, u->o->a.t1_rule == ACT_T1_HOLD, u->o->jo.watch,
-		                  u->o->jo.nwatch);
+	const char *name[2] = { u->o->trace, u->o->events };
+	for (int k = 0; k < 2; k++)
 		if (u->rt)
-			u->trace = cli_runtable_open(&u->rt[0], m, cols);
-		else {
-			u->trace = cli_open_numbered(u->o->trace, u->jfile);
-			cli_table_header_run(u->trace, m, cols);
+			t->f[k] = u->f[k] = cli_runtable_open(&u->rt[k], m, t->cols[k]);
+		else if (name[k]) {
+			t->f[k] = u->f[k] = cli_open_numbered(name[k], u->jfile);
+			cli_table_header_run(t->f[k], m, t->cols[k]);
 		}
-	}
-	if (u->o->events) {
-		const char *ecols = u->o->a.t1_rule == ACT_T1_HOLD ? ACT_EVENT_COLUMNS_HOLD : ACT_EVENT_COLUMNS;
-		if (u->rt)
-			u->events = cli_runtable_open(&u->rt[1], m, ecols);
-		else {
-			u->events = cli_open_numbered(u->o->events, u->jfile);
-			cli_table_header_run(u->events, m, ecols);
-		}
-		act_set_t1_hook(a, on_t1, u);
-	}
-}
-
-static void close_out(FILE *f, const char *name)
-{
-	if (f && fclose(f) != 0)
-		cli_die(EXIT_INPUT, "%s: write error", name);
 }
 
 /* Run m with junction j active (-1: network), outputs numbered jfile, or
@@ -246,9 +210,9 @@ static void close_out(FILE *f, const char *name)
 static act_result run(const struct opts *o, mesh *m, const model *p, int j, int jfile,
                       cli_runtable *rt)
 {
-	struct out u = { .o = o, .j = j, .jfile = jfile, .rt = rt };
+	struct out u = { .o = o, .jfile = jfile, .rt = rt };
 	cli_progress_init(&u.pr);
-	act_io io = { on_begin, on_row, o->jo.every > 0 ? on_frame : NULL, on_step, &u };
+	act_io io = { on_begin, NULL, o->jo.every > 0 ? on_frame : NULL, on_step, &u };
 	act_result r;
 	mesh_error err;
 	if (act_job(m, p, &o->a, &o->jo, j, &cli_stop, &io, &r, &err) != MESH_OK)
@@ -256,23 +220,16 @@ static act_result run(const struct opts *o, mesh *m, const model *p, int j, int 
 	if (r.why == ACT_END_NONFINITE)
 		cli_warn("%s", err.msg);
 	if (u.pr.tty) {
-		progress(&u, r.c.t, r.c.nstep, r.c.nt1);
+		progress(&u, &r.c);
 		fputc('\n', stderr);
 	}
-	if (rt) {
-		int stopped = r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE;
-		char note[128];
-		if (r.why == ACT_END_STOP)
-			snprintf(note, sizeof note, "interrupted by %s at t %.10g", cli_stop_name(), r.t_end);
-		else
-			snprintf(note, sizeof note, "stopped: non-finite state at t %.10g", r.t_end);
-		for (int k = 0; k < 2; k++)
-			if (cli_runtable_close(&rt[k], m, stopped ? note : NULL, stopped))
-				cli_die(EXIT_INPUT, "%s: write error", rt[k].path);
-	} else {
-		close_out(u.trace, o->trace);
-		close_out(u.events, o->events);
-	}
+	char note[128];
+	int stopped = act_stopped(&r, cli_stop_name(), note, sizeof note);
+	const char *name[2] = { o->trace, o->events };
+	for (int k = 0; k < 2; k++)
+		if (rt ? cli_runtable_close(&rt[k], m, stopped ? note : NULL, stopped) != 0
+		       : u.f[k] && fclose(u.f[k]) != 0)
+			cli_die(EXIT_INPUT, "%s: write error", rt ? rt[k].path : name[k]);
 	return r;
 }
 
@@ -290,7 +247,7 @@ static int one(const struct opts *o, mesh *m, const model *p, int j)
 	if (o->jo.every > 0)
 		printf("# %s final t %.10g\n", cli_name, r.t_end);
 	cli_write_mesh(m);
-	if (r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE) {
+	if (act_stopped(&r, NULL, NULL, 0)) {
 		if (fflush(stdout) != 0)
 			cli_write_error("stdout");
 		cli_die(EXIT_NOCONV, "%s at t %.6g, wrote the last state",
@@ -311,7 +268,7 @@ static int several(const struct opts *o, const mesh *m0, const model *p, const i
 		act_result r = run(o, m, p, j, j, NULL);
 		act_result_write(stdout, m0, j, &r);
 		fflush(stdout);
-		bad |= r.why == ACT_END_STOP || r.why == ACT_END_NONFINITE;
+		bad |= act_stopped(&r, NULL, NULL, 0);
 		mesh_free(m);
 	}
 	if (bad || cli_stop) {

@@ -326,8 +326,20 @@ typedef struct {
 	const char *name;    /* the input's name, for messages (NULL: "<mesh>") */
 } act_job_opts;
 
+/* The tables act_job writes beside a run, to the files the begin
+ * callback leaves in f (NULL: not written) after their headers, under the
+ * column names cols it is given: the trace (ACT_TRACE: the rows of
+ * act_io's row, act_trace_write, each flushed so that a long run can be
+ * watched with tail -f) and the T1 events (ACT_EVENTS: act_event_write,
+ * with the kind and pull of ACT_T1_HOLD).  act_job does not close them. */
+enum { ACT_TRACE, ACT_EVENTS };
+typedef struct {
+	const char *cols[2];
+	FILE *f[2];
+} act_tables;
+
 /* Callbacks of a run, any of them NULL.  begin: the integrator exists,
- * before the first row (open outputs, act_set_t1_hook).  row: a sample at
+ * before the first row (open the tables' files, t).  row: a sample at
  * a multiple of trace_every, the first one the start state and the last
  * one the end state; but a continued run's first row is the first after
  * its start, and a stopped run's last the last before its end, so that
@@ -335,7 +347,7 @@ typedef struct {
  * stopped.  frame: the mesh at a multiple of every.  step: after every
  * step (progress).  None may change the run. */
 typedef struct {
-	void (*begin)(void *data, act *a, mesh *m);
+	void (*begin)(void *data, mesh *m, act_tables *t);
 	void (*row)(void *data, const act_row *w);
 	void (*frame)(void *data, mesh *m, double t);
 	void (*step)(void *data, const act *a);
@@ -384,6 +396,13 @@ void act_event_write(FILE *f, double t, int j, const int lose[2], const int gain
                      double lbefore, int hold, int kind, double pull);
 #define ACT_RESULT_COLUMNS "j\ta\tb\tl0\treason\tt_end\tt_c\tl_end\tdg_end\tl_min\tl_max\tnstep"
 void act_result_write(FILE *f, const mesh *m0, int j, const act_result *r);
+
+/* Whether a run stopped short of its end (ACT_END_STOP, a stop asked
+ * for, or ACT_END_NONFINITE), its mesh holding the state to continue
+ * from; then the last line of its tables in buf: "interrupted by SIGNAL
+ * at t T" (signal the stop's name) or "stopped: non-finite state at t T"
+ * (buf may be NULL: nothing written). */
+int act_stopped(const act_result *r, const char *signal, char *buf, size_t n);
 
 /* The history note of a run ("end REASON; t T[, t_c TC]; SCHEME, counts"),
  * its items split by ';', one of them "t T" (what mesh_time reads).

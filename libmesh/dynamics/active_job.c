@@ -150,6 +150,8 @@ struct job {
 	double lmin, lmax;
 	int bad;             /* a sample failed */
 	double bad_t;
+	act_tables tab;
+	char cols[4096];     /* the trace's column names */
 };
 
 static void row(struct job *u, double t)
@@ -168,6 +170,31 @@ static void row(struct job *u, double t)
 	u->last_row_t = t;
 	if (u->io->row)
 		u->io->row(u->io->data, &w);
+	if (u->tab.f[ACT_TRACE]) {
+		act_trace_write(u->tab.f[ACT_TRACE], &w, u->j);
+		fflush(u->tab.f[ACT_TRACE]);
+	}
+}
+
+static void event_row(void *data, double t, int j, const int lose[2], const int gain[2],
+                      double lbefore, int kind, double pull)
+{
+	struct job *u = data;
+	act_event_write(u->tab.f[ACT_EVENTS], t, j, lose, gain, lbefore,
+	                u->o->t1_rule == ACT_T1_HOLD, kind, pull);
+}
+
+/* The tables' columns, their files the caller's. */
+static void begin(struct job *u)
+{
+	int hold = u->o->t1_rule == ACT_T1_HOLD;
+	act_trace_columns(u->cols, sizeof u->cols, u->j, hold, u->jo->watch, u->jo->nwatch);
+	u->tab.cols[ACT_TRACE] = u->cols;
+	u->tab.cols[ACT_EVENTS] = hold ? ACT_EVENT_COLUMNS_HOLD : ACT_EVENT_COLUMNS;
+	if (u->io->begin)
+		u->io->begin(u->io->data, u->m, &u->tab);
+	if (u->tab.f[ACT_EVENTS])
+		act_set_t1_hook(u->a, event_row, u);
 }
 
 /* The frame at time t of the last step: the mesh with the state there. */
@@ -302,8 +329,7 @@ int act_job(mesh *m, const model *p, const act_opts *o, const act_job_opts *jo, 
 			mesh_error_set(err, 0, st, "bad state active_fresh in the mesh");
 		goto out;
 	}
-	if (u.io->begin)
-		u.io->begin(u.io->data, u.a, m);
+	begin(&u);
 	/* a continued run's start is the end of the run it continues, which
 	 * wrote the rows up to it: its rows are those of the run never stopped */
 	if (!continued)
@@ -368,6 +394,15 @@ int act_note(char *buf, size_t n, const act_opts *o, const act_result *r)
 				", %ld held, %ld re-formed, %d held at the end", r->c.nhold,
 				r->c.nreform, r->c.nheld);
 	return len;
+}
+
+int act_stopped(const act_result *r, const char *signal, char *buf, size_t n)
+{
+	if (buf && r->why == ACT_END_STOP)
+		snprintf(buf, n, "interrupted by %s at t %.10g", signal, r->t_end);
+	else if (buf && r->why == ACT_END_NONFINITE)
+		snprintf(buf, n, "stopped: non-finite state at t %.10g", r->t_end);
+	return r->why == ACT_END_STOP || r->why == ACT_END_NONFINITE;
 }
 
 void act_trace_columns(char *buf, size_t n, int j, int hold, const int *watch, int nwatch)
