@@ -1,9 +1,7 @@
 /* tis-active - active junction dynamics (paper eqs. 1-2): one junction,
  * several one after another, or every junction of a tissue. */
 #include <limits.h>
-#include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "active.h"
 #include "cli.h"
@@ -78,6 +76,7 @@ struct opts {
 	act_job_opts jo;
 	cli_model_opts mo;
 	const char *trace, *events, *input;
+	int several;   /* --random, --regular, --list: a run each, a row each */
 };
 
 static int scheme(void *to, const char *arg) { return act_scheme_parse(arg, to); }
@@ -146,14 +145,14 @@ static struct opts parse(int argc, char **argv)
 	mesh_error err;
 	if (act_opts_check(&o.a, &err) != MESH_OK)
 		cli_usage_error("%s", err.msg);
-	int multi = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_REGULAR || o.js.kind == JSEL_LIST;
+	o.several = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_REGULAR || o.js.kind == JSEL_LIST;
 	if (o.jo.nwatch && !network)
 		cli_usage_error("--watch is for --network");
-	if (multi && o.jo.every > 0)
+	if (o.several && o.jo.every > 0)
 		cli_usage_error("--every writes frames of one run: not with --random, --regular or --list");
-	if (multi && o.trace && !cli_one_d(o.trace))
+	if (o.several && o.trace && !cli_one_d(o.trace))
 		cli_usage_error("--trace with several junctions needs one %%d in the file name");
-	if (multi && o.events && !cli_one_d(o.events))
+	if (o.several && o.events && !cli_one_d(o.events))
 		cli_usage_error("--events with several junctions needs one %%d in the file name");
 	o.a.threads = cli_threads_apply(o.a.threads, 1);
 	o.a.thread_min = cli_thread_min();
@@ -233,7 +232,7 @@ static act_result run(const struct opts *o, mesh *m, const model *p, int j, int 
 	return r;
 }
 
-static int one(const struct opts *o, mesh *m, const model *p, int j)
+static void one(const struct opts *o, mesh *m, const model *p, int j)
 {
 	/* one run: the file names as given, continued where a stopped run left
 	 * them */
@@ -253,10 +252,9 @@ static int one(const struct opts *o, mesh *m, const model *p, int j)
 		cli_die(EXIT_NOCONV, "%s at t %.6g, wrote the last state",
 			r.why == ACT_END_STOP ? "interrupted" : "stopped: non-finite state", r.t_end);
 	}
-	return 0;
 }
 
-static int several(const struct opts *o, const mesh *m0, const model *p, const int *sel, int n)
+static void several(const struct opts *o, const mesh *m0, const model *p, const int *sel, int n)
 {
 	cli_table_header_run(stdout, m0, ACT_RESULT_COLUMNS);
 	int bad = 0;
@@ -276,7 +274,6 @@ static int several(const struct opts *o, const mesh *m0, const model *p, const i
 			cli_write_error("stdout");
 		cli_die(EXIT_NOCONV, cli_stop ? "interrupted" : "a run went non-finite");
 	}
-	return 0;
 }
 
 int main(int argc, char **argv)
@@ -287,20 +284,15 @@ int main(int argc, char **argv)
 	cli_model_set(m, &o.mo);
 	cli_history(m);
 	model p = model_from_mesh(m);
-	if (o.js.kind == JSEL_ALL) {
-		one(&o, m, &p, -1);
-	} else {
-		int n;
-		mesh_error err;
-		int *sel = NULL;
-		if (junction_select(m, &o.js, &sel, &n, &err) != MESH_OK)
-			cli_die(EXIT_INPUT, "%s", err.msg);
-		if (o.js.kind == JSEL_PAIR || o.js.kind == JSEL_INDEX)
-			one(&o, m, &p, sel[0]);
-		else
-			several(&o, m, &p, sel, n);
-		free(sel);
-	}
+	int n = 1, *sel = NULL;
+	mesh_error err;
+	if (o.js.kind != JSEL_ALL && junction_select(m, &o.js, &sel, &n, &err) != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err.msg);
+	if (o.several)
+		several(&o, m, &p, sel, n);
+	else
+		one(&o, m, &p, sel ? sel[0] : -1);
+	free(sel);
 	mesh_free(m);
 	cli_finish();
 }
