@@ -144,7 +144,7 @@ int bar_run(const mesh *m, const model *p, int j, const bar_opts *o, bar_work *w
 	double lold = l0, dlold = 0, wmax = pt.W;
 	for (int k = 1; k <= kmax; k++) {
 		if (stop && *stop)
-			return MESH_ENOCONV;
+			return mesh_error_set(err, 0, MESH_ENOCONV, "stopped");
 		double l = k == kmax ? o->lmin : l0 - k * o->step, dl = l - lold;
 		if (k == 1) {
 			memcpy(w->xprev, x, sz);
@@ -166,7 +166,7 @@ int bar_run(const mesh *m, const model *p, int j, const bar_opts *o, bar_work *w
 			r->status = BAR_STOPPED;
 			r->barrier = wmax - r->W0;
 			if (stop && *stop)
-				return MESH_ENOCONV;
+				return mesh_error_set(err, 0, MESH_ENOCONV, "stopped");
 			return MESH_OK;
 		}
 		r->npts++;
