@@ -241,9 +241,9 @@ int cli_parse(int argc, char **argv, cli_optdef *defs, const char *help)
 	for (; defs[n].name; n++) {
 		if (n == OPT_MAX)
 			cli_die(EXIT_USAGE, "more than %d options in a table", OPT_MAX);
-		lo[n] = (struct option){ defs[n].name,
-		                         defs[n].kind == CLI_FLAG || defs[n].kind == CLI_ALL ? no_argument : required_argument,
-		                         NULL, OPT_BASE + n };
+		int flag = defs[n].kind == CLI_FLAG || defs[n].kind == CLI_ALL;
+		lo[n] = (struct option){ defs[n].name, flag ? no_argument : required_argument, NULL,
+		                         OPT_BASE + n };
 		defs[n].seen = 0;
 	}
 	lo[n] = (struct option){ "help", no_argument, NULL, 'h' };
