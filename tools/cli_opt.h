@@ -71,7 +71,7 @@ void cli_model_set(mesh *m, const cli_model_opts *mo);
  * value goes, so that parse() is the table and the checks between
  * options.  Messages are those of the functions above, naming the option
  * as --name; -h/--help (cli_help) and --version (cli_version) come with
- * every table. */
+ * every table, and -h is the only short option.  At most 96 entries. */
 typedef enum {
 	CLI_FLAG,       /* no argument: *(int *)to = val */
 	CLI_DOUBLE,     /* a number in [lo, hi] (cli_double_range): *(double *)to */
@@ -95,8 +95,9 @@ typedef struct {
 	cli_optkind kind;
 	void *to;
 	double lo, hi;      /* the range of a number */
-	int val;            /* CLI_FLAG's value, CLI_JUNCTIONS' again */
-	const char *msg;    /* CLI_PARSE's and CLI_JUNCTIONS' usage error */
+	int val;            /* CLI_FLAG's value, CLI_JUNCTIONS' and CLI_ALL's again */
+	const char *msg;    /* CLI_PARSE's usage error (where parse can fail),
+	                       CLI_JUNCTIONS' and CLI_ALL's choose */
 	int (*parse)(void *to, const char *arg);
 	unsigned group;     /* bits the program chooses, for cli_opt_first */
 	int seen;           /* set by cli_parse: the option's first place among
