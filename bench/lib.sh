@@ -7,7 +7,7 @@ bench_cc() {
 	${CC:-cc} -O2 -march=x86-64-v2 -std=c11 -D_POSIX_C_SOURCE=200809L \
 		$(for d in "${top:-.}"/libmesh/*/; do printf -- '-I%s ' "${d%/}"; done) \
 		"$2" "${top:-.}/libmesh/libmesh.a" -lcholmod -lsundials_cvode -lsundials_nvecserial \
-		-lnlopt -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread -lgomp -o "$1"
+		-lnlopt -llapacke -lopenblas -lgsl -lgslcblas -lgmp -lmpfr -lstdc++ -lm -lpthread -lgomp -o "$1"
 }
 # best K CMD...: the shortest wall time of K runs of CMD, in seconds; the
 # command's stdout goes to $T/out.tsv (the last run's stays there), and

@@ -11,6 +11,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "forcelen.h"
+#include "geom.h"
 #include "hessian.h"
 #include "ldl.h"
 #include "linresp.h"
@@ -154,10 +155,20 @@ static void plastic_mesh(void)
 	fl_point *pts = malloc((size_t)fl_npoints(d, 229, &o) * sizeof *pts);
 	int n, nt1 = -1, nplastic = 0, nomin = 0;
 	int st = fl_sweep(d, &p, 229, &o, w, pts, &n, NULL);
+	/* which short neighbour the watch catches first depends on the
+	 * minimizer's path through the floppy modes (216, 174 or 284 of
+	 * the code's versions so far): any junction but the held one,
+	 * short at rest */
+	int jz = -1;
 	for (int i = 0; i < n; i++)
-		nomin += pts[i].status == FL_NOMIN && (pts[i].jzero == 216 || pts[i].jzero == 174);
-	ok(st == MESH_OK && nomin == 1 && fl_work_mesh(w, &nt1) == NULL && nt1 == 0,
-	   "without t1: the leg ends at junction 216's or 174's collapse, no T1, no mesh");
+		if (pts[i].status == FL_NOMIN) {
+			nomin++;
+			jz = pts[i].jzero;
+		}
+	ok(st == MESH_OK && nomin == 1 && jz >= 0 && jz < d->nj && jz != 229 &&
+	   junction_length(d, d->r, jz) < 0.2 && fl_work_mesh(w, &nt1) == NULL && nt1 == 0,
+	   "without t1: the leg ends at a short junction's collapse (%d, %.3g at rest), no T1, no mesh",
+	   jz, jz >= 0 ? junction_length(d, d->r, jz) : -1.0);
 	/* The work of a floppy sweep: junction 151's outward leg, whose
 	 * points at W = 0 are Gauss-Newton's (the minimum-norm steps to the
 	 * zero-residual manifold, each solved by CG on J J^T + lambda I with

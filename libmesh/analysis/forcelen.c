@@ -330,7 +330,10 @@ static int solve_point(sweep *sw, int dir)
 			 * paths to it differ) */
 			relax_point r2;
 			min_opts alt = sw->o->min;
-			alt.algo = alt.algo == MIN_LM ? MIN_NEWTON : MIN_LM;
+			if (alt.algo == MIN_GN)
+				alt.gn_newton = !alt.gn_newton;
+			else
+				alt.algo = alt.algo == MIN_LM ? MIN_NEWTON : MIN_LM;
 			memcpy(w->rstart, x, (size_t)w->n * sizeof *x);
 			memcpy(x, w->xstart, (size_t)w->n * sizeof *x);
 			st = relax_solve(w->rw, &alt, sw->stop, &r2);

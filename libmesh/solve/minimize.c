@@ -584,7 +584,7 @@ static int stage_newton(ctx *c, double *xio)
 #define LM_SMAX 0.1
 #define LM_STALL 20
 
-static int stage_lm(ctx *c, double *xio)
+static int stage_lm(ctx *c, double *xio, long maxit)
 {
 	const int n = c->n;
 	if (!c->o->pcshift || !c->o->pcapply || !c->o->precond)
@@ -600,7 +600,7 @@ static int stage_lm(ctx *c, double *xio)
 	int stall = 0, fresh = 0, have = c->o->pcapply(g, z, c->data) == 0;
 	long it = 0;
 	int maxk = 4 * (c->o->pcmaxit > 0 ? c->o->pcmaxit : 6);
-	while (!c->conv && budget_left(c)) {
+	while (!c->conv && budget_left(c) && (maxit <= 0 || it < maxit)) {
 		double gnorm2 = sqrt(cdot(c, g, g));
 		double lam = mu * gnorm2;
 		double eta = fmin(0.1, sqrt(gnorm2));
@@ -711,11 +711,22 @@ static int stage_lm(ctx *c, double *xio)
  * Where the residuals do not go to zero (GN_SLOWN steps in a row that
  * cut the energy less than GN_SLOW times: a minimum with W > 0, a floppy
  * tissue stretched beyond what it takes at no cost), it hands over to
- * Newton-CG (measured: 1.3 s against 18 s with Levenberg-Marquardt on the
- * Hessian for a junction of disordered-1 at p0 3.86 pulled 0.5 past its
- * rest length), and its polish is Levenberg-Marquardt on the Hessian. */
+ * Levenberg-Marquardt on the Hessian for up to GN_LM_MAXIT steps, then
+ * to Newton-CG from where that stopped (and min_run's polish is
+ * Newton-CG): such a minimum is floppy in part (zero modes with W > 0),
+ * where Newton-CG's CG took 50-300 products a step and
+ * Levenberg-Marquardt converges in a few (bench/RESULTS.md: 1.7x less
+ * CPU over 122 junctions of disordered-1 at p0 3.86).  Where the tissue
+ * snaps through an indefinite region every method crawls for thousands
+ * of steps; the cap keeps Levenberg-Marquardt's crawl from adding to
+ * Newton-CG's (without it one junction took 39 s instead of 3.4).  With
+ * gn_newton
+ * it hands over to Newton-CG at once, polished by Levenberg-Marquardt on
+ * the Hessian (the other path, which tis-forcelen tries when this one
+ * ends short). */
 #define GN_SLOW 0.5
 #define GN_SLOWN 3
+#define GN_LM_MAXIT 30
 
 static int stage_gn(ctx *c, double *xio)
 {
@@ -770,9 +781,12 @@ static int stage_gn(ctx *c, double *xio)
 	}
 	stage_end(c, xio, x, f, gn, it);
 	free(buf);
+	int st = MESH_OK;
 	if (!c->conv && budget_left(c))
-		return stage_newton(c, xio);
-	return MESH_OK;
+		st = c->o->gn_newton ? stage_newton(c, xio) : stage_lm(c, xio, GN_LM_MAXIT);
+	if (st == MESH_OK && !c->conv && !c->o->gn_newton && budget_left(c))
+		st = stage_newton(c, xio);
+	return st;
 }
 
 /* ---- driver ---- */
@@ -786,7 +800,7 @@ static int run_stage(ctx *c, double *x, min_algo a)
 	case MIN_GSL_BFGS2: return stage_bfgs2(c, x);
 	case MIN_FIRE: return stage_fire(c, x);
 	case MIN_NEWTON: case MIN_AUTO: return stage_newton(c, x);
-	case MIN_LM: return stage_lm(c, x);
+	case MIN_LM: return stage_lm(c, x, 0);
 	case MIN_GN: return stage_gn(c, x);
 	default: return MESH_EDOM;
 	}
@@ -796,11 +810,12 @@ static int run_stage(ctx *c, double *x, min_algo a)
  * methods, FIRE and the Levenberg-Marquardt ones cannot (energy-based
  * line searches stall at rounding level; the Levenberg-Marquardt steps
  * at a degenerate minimum can stay short); Levenberg-Marquardt on the
- * Hessian finishes Newton-CG's (and the Gauss-Newton stage's, which ends
- * in Newton-CG) where that stops at zero modes. */
-static min_algo polisher(min_algo a)
+ * Hessian finishes Newton-CG's (and the Gauss-Newton stage's when that
+ * ends in Newton-CG, gn_newton) where that stops at zero modes. */
+static min_algo polisher(const min_opts *o)
 {
-	return a == MIN_NEWTON || a == MIN_AUTO || a == MIN_GN ? MIN_LM : MIN_NEWTON;
+	min_algo a = o->algo;
+	return a == MIN_NEWTON || a == MIN_AUTO || (a == MIN_GN && o->gn_newton) ? MIN_LM : MIN_NEWTON;
 }
 
 /* The last resort of a run that would end short of ftol after its
@@ -822,7 +837,7 @@ static int last_resort(ctx *c, double *x)
 {
 	end_at_best(c, x);
 	c->lslack = MIN_TIGHT_SLACK * (1 + fabs(c->fbest));
-	int st = stage_lm(c, x);
+	int st = stage_lm(c, x, 0);
 	c->lslack = c->slack;
 	return st;
 }
@@ -885,7 +900,7 @@ int min_run(int n, double *x, min_func f, void *data, const min_opts *o,
 		if (c.fcur > c.f0 + c.slack)
 			end_at_best(&c, x);
 		long before = c.niter;
-		st = run_stage(&c, x, polisher(o->algo));
+		st = run_stage(&c, x, polisher(o));
 		if (st == MESH_OK && !c.conv && budget_left(&c))
 			st = last_resort(&c, x);
 		c.npolish = c.niter - before;

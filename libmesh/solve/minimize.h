@@ -28,7 +28,8 @@ typedef enum {
 	MIN_LM,          /* Levenberg-Marquardt on the Hessian (pcshift): a minimum
 	                    that is not isolated (floppy modes) */
 	MIN_GN,          /* Levenberg-Marquardt on the residuals of a sum of
-	                    squares (gnstep), MIN_LM where they do not go to zero */
+	                    squares (gnstep), MIN_LM (or MIN_NEWTON, gn_newton)
+	                    where they do not go to zero */
 	MIN_AUTO,        /* the problem's choice (tis-forcelen: by the tissue's
 	                    rest state, forcelen.h); min_run: MIN_NEWTON */
 	MIN_NALGO
@@ -95,6 +96,11 @@ typedef struct min_opts {
 	 * along t s is -(t pd[0] + t^2 pd[1])); 0, or nonzero if it cannot.
 	 * NULL: MIN_GN is MIN_NEWTON. */
 	int (*gnstep)(const double *x, double lambda, double *s, double pd[2], void *data);
+	int gn_newton;     /* MIN_GN, where the residuals do not go to zero:
+	                      0 (default) hand over to MIN_LM, 1 to MIN_NEWTON
+	                      (the two take different paths through an
+	                      indefinite region, forcelen.c tries the other
+	                      when one ends short) */
 	int pcmaxit;       /* default 6 (bench/RESULTS.md) */
 	volatile sig_atomic_t *stop; /* if not NULL: once *stop is nonzero the
 	                      method stops at its next evaluation and min_run
