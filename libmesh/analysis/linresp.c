@@ -4,17 +4,15 @@
 #include "linresp.h"
 #include "geom.h"
 #include "hessian.h"
+#include "lanczos.h"
 #include "ldl.h"
 
-#include <lapacke.h>
 #include <math.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 /* Zero modes are certified to lie within tol / LR_GLO of zero. */
 #define LR_GLO 10.0
-#define LR_LANCZOS_MAX 400
 
 struct linresp {
 	int n, nv;
@@ -41,108 +39,17 @@ void linresp_get_info(const linresp *lr, linresp_info *info)
 	*info = lr->info;
 }
 
-/* The smallest and the largest eigenvalue of the symmetric tridiagonal
- * (al, be) of order k, by LAPACK's root-free QL/QR (dsterf) on copies in
- * d and e; 0, or LAPACK's info if it failed. */
-static int tri_extremes(const double *al, const double *be, int k, double *d, double *e,
-                        double *lo, double *hi)
-{
-	memcpy(d, al, (size_t)k * sizeof *d);
-	memcpy(e, be, (size_t)(k > 1 ? k - 1 : 0) * sizeof *e);
-	lapack_int info = LAPACKE_dsterf(k, d, e);
-	if (info != 0)
-		return (int)info;
-	*lo = d[0];
-	*hi = d[k - 1];
-	return 0;
-}
-
-/* max |lambda| of a by Lanczos without reorthogonalization: the extreme
- * Ritz values converge first, and lost orthogonality only adds copies of
- * converged ones.  The start is a fixed hash sequence (no random state):
- * the same matrix gives the same bits.  MESH_OK, MESH_ENOMEM, MESH_ENOCONV
- * for a zero matrix. */
-static int lanczos_max(const spsym *a, double *lmax)
-{
-	int n = a->n;
-	double *v0 = calloc((size_t)n + 1, sizeof *v0), *v1 = malloc(((size_t)n + 1) * sizeof *v1),
-	       *w = malloc(((size_t)n + 1) * sizeof *w);
-	double *al = malloc(4 * LR_LANCZOS_MAX * sizeof *al), *be = al + LR_LANCZOS_MAX;
-	double *td = al + 2 * LR_LANCZOS_MAX, *te = al + 3 * LR_LANCZOS_MAX;
-	int st = MESH_OK;
-	if (!v0 || !v1 || !w || !al) {
-		st = MESH_ENOMEM;
-		goto done;
-	}
-	double nrm = 0;
-	for (int i = 0; i < n; i++) {
-		uint64_t h = (uint64_t)(i + 1) * 0x9E3779B97F4A7C15ull;
-		h ^= h >> 31;
-		h *= 0xBF58476D1CE4E5B9ull;
-		h ^= h >> 29;
-		v1[i] = (double)(h >> 11) / 9007199254740992.0 - 0.5;
-		nrm += v1[i] * v1[i];
-	}
-	nrm = sqrt(nrm);
-	for (int i = 0; i < n; i++)
-		v1[i] /= nrm;
-	double b = 0, est = 0, last = -1;
-	int k;
-	for (k = 0; k < LR_LANCZOS_MAX && k < n; k++) {
-		spsym_mulvec(a, v1, w);
-		double alpha = 0;
-		for (int i = 0; i < n; i++)
-			alpha += w[i] * v1[i];
-		for (int i = 0; i < n; i++)
-			w[i] -= alpha * v1[i] + b * v0[i];
-		b = 0;
-		for (int i = 0; i < n; i++)
-			b += w[i] * w[i];
-		b = sqrt(b);
-		al[k] = alpha;
-		be[k] = b;
-		int stop = !(b > 1e-14 * fmax(fabs(alpha), est));   /* invariant subspace */
-		if (k % 5 == 4 || stop || k == n - 1) {
-			double lo = 0, hi = 0;
-			if (tri_extremes(al, be, k + 1, td, te, &lo, &hi) != 0) {
-				st = MESH_ENOCONV;
-				goto done;
-			}
-			est = fmax(fabs(lo), fabs(hi));
-			if (stop || (k >= 19 && fabs(est - last) <= 1e-13 * est))
-				break;
-			last = est;
-		}
-		for (int i = 0; i < n; i++) {
-			v0[i] = v1[i];
-			v1[i] = w[i] / b;
-		}
-	}
-	if (!(est > 0) || !isfinite(est))
-		st = MESH_ENOCONV;
-	*lmax = est;
-done:
-	free(v0);
-	free(v1);
-	free(w);
-	free(al);
-	return st;
-}
-
 /* Factor A + shift I into f and return its count of negative pivots (or
  * -1 with *st set). */
 static int count_below(ldl *f, const spsym *a, double shift, linresp *lr, int *st)
 {
-	*st = ldl_factor(f, a, shift);
-	if (*st != MESH_OK)
+	int nneg;
+	*st = ldl_inertia(f, a, shift, LINRESP_MAXGROWTH * lr->info.lmax, &nneg);
+	if (*st != MESH_OK && *st != MESH_ENOCONV)
 		return -1;
 	lr->info.nfactor++;
 	lr->info.growth = fmax(lr->info.growth, ldl_growth(f) / lr->info.lmax);
-	if (!(ldl_growth(f) <= LINRESP_MAXGROWTH * lr->info.lmax)) {
-		*st = MESH_ENOCONV;
-		return -1;
-	}
-	return ldl_nneg(f);
+	return nneg;
 }
 
 static int fail_factor(mesh_error *err, int st, const char *what, double shift, double lmax)
@@ -206,7 +113,7 @@ int linresp_alloc(const mesh *m, const model *p, double zerotol, double gnull_mi
 	if (st != MESH_OK)
 		goto done;
 
-	st = lanczos_max(h, &lr->info.lmax);
+	st = lanczos_extremes(h, 1e-13, &lr->info.lmax, NULL, NULL);
 	if (st != MESH_OK) {
 		mesh_error_set(err, 0, st, st == MESH_ENOMEM ? "out of memory"
 		                                             : "the hessian is zero: no scale for zero modes");
@@ -286,14 +193,6 @@ done:
 	return st;
 }
 
-static double dot(const double *a, const double *b, int n)
-{
-	double s = 0;
-	for (int i = 0; i < n; i++)
-		s += a[i] * b[i];
-	return s;
-}
-
 /* |x|^2 of the pinned factor's whole solve x of b (nb entries). */
 static int pinned_x2(linresp *lr, int nb, const int *gi, const double *gv, linresp_result *res)
 {
@@ -305,7 +204,7 @@ static int pinned_x2(linresp *lr, int nb, const int *gi, const double *gv, linre
 	int st = ldl_solve(lr->fp, x, x);
 	if (st == MESH_OK) {
 		hessian_drop_translation(x, lr->nv);
-		res->x2 = dot(x, x, lr->n);
+		res->x2 = sparse_dot(x, x, lr->n);
 	}
 	free(x);
 	return st;
@@ -365,9 +264,9 @@ static int quad(linresp *lr, int nb, int *gi, double *gv, double scale, int want
 		res->nsolve++;
 		if (i > 1) {
 			tp *= t;
-			neum += tp * dot(x, xn, n);   /* m_{2i-1} = x_{i-1} . x_i */
+			neum += tp * sparse_dot(x, xn, n);   /* m_{2i-1} = x_{i-1} . x_i */
 		}
-		m2k = dot(xn, xn, n);
+		m2k = sparse_dot(xn, xn, n);
 		if (i == 1)
 			res->x2 = m2k;
 		tp *= t;

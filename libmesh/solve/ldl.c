@@ -141,6 +141,18 @@ double ldl_growth(const ldl *f)
 	return f->ok ? f->growth : NAN;
 }
 
+int ldl_inertia(ldl *f, const spsym *a, double shift, double max_growth, int *nneg)
+{
+	*nneg = -1;
+	int st = ldl_factor(f, a, shift);
+	if (st != MESH_OK)
+		return st;
+	if (!(f->growth <= max_growth))
+		return MESH_ENOCONV;
+	*nneg = f->nneg;
+	return MESH_OK;
+}
+
 static int cmp_int(const void *a, const void *b)
 {
 	int x = *(const int *)a, y = *(const int *)b;

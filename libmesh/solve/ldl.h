@@ -51,6 +51,15 @@ int ldl_factor(ldl *f, const spsym *a, double shift);
 int ldl_nneg(const ldl *f);
 double ldl_growth(const ldl *f);
 
+/* Factor A + shift I, as ldl_factor, and count its negative pivots into
+ * *nneg: the eigenvalues of A below -shift, provided the growth stays
+ * within max_growth (a few rounding units times it is the backward
+ * error, so max_growth sets how near -shift an eigenvalue may lie and
+ * still be counted right).  MESH_OK; MESH_ENOCONV if the growth exceeds
+ * max_growth (the factor is kept: ldl_growth says by how much);
+ * ldl_factor's failures. */
+int ldl_inertia(ldl *f, const spsym *a, double shift, double max_growth, int *nneg);
+
 /* b^T (A + shift I)^{-1} b for the b with the nb nonzeros bv at rows bi
  * (repeated rows add up).  NAN without a usable factor. */
 double ldl_quad(ldl *f, int nb, const int *bi, const double *bv);

@@ -132,6 +132,14 @@ double spsym_diagmax(const spsym *a)
 	return dmax;
 }
 
+double sparse_dot(const double *a, const double *b, int n)
+{
+	double s = 0;
+	for (int i = 0; i < n; i++)
+		s += a[i] * b[i];
+	return s;
+}
+
 void spsym_mulvec(const spsym *a, const double *x, double *y)
 {
 	for (int i = 0; i < a->n; i++)

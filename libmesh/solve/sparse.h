@@ -34,6 +34,9 @@ void spsym_zero(spsym *a);
 int spsym_find(const spsym *a, int i, int j);
 /* The largest |diagonal entry| (fmax's: NaN entries are passed over). */
 double spsym_diagmax(const spsym *a);
+/* a . b of two dense n-vectors, summed in index order (the same bits
+ * wherever it is called). */
+double sparse_dot(const double *a, const double *b, int n);
 /* y = A x (the full symmetric matrix). */
 void spsym_mulvec(const spsym *a, const double *x, double *y);
 
