@@ -9,11 +9,13 @@
 #include "cli.h"
 #include "energy.h"
 #include "minimize.h"
+#include "saddle.h"
 
 static const char usage[] =
 	"[--p0 X] [--ka Y] [--ftol F] [--maxeval N] [--algo NAME] [--no-polish]\n"
 	"       [--no-precond] [--precond KIND] [--block N]\n"
-	"       [--overlap L] [--threads N] [--accept] [--strict] [-q] [MESH]";
+	"       [--overlap L] [--threads N] [--escape | --no-check] [--accept] [--strict]\n"
+	"       [-q] [MESH]";
 static const char help[] =
 	"Minimize the vertex-model energy W over all vertex positions at fixed\n"
 	"topology and write the relaxed mesh to stdout.  Every mesh of the input\n"
@@ -37,7 +39,13 @@ static const char help[] =
 	"  --block N     schwarz: vertices per patch (default 2048)\n"
 	"  --overlap L   schwarz: layers of overlap between patches (default 2)\n"
 	"  --threads N   cores to compute on (default: OMP_NUM_THREADS, else all)\n"
-	"  --accept      exit 0 also when the force tolerance was missed\n"
+	"  --escape      leave saddles: step along negative curvature and relax\n"
+	"                again, until no negative mode is left (at most 20 times)\n"
+	"  --no-check    do not check that the result is a minimum (default: a\n"
+	"                saddle, a Hessian eigenvalue below -1e-10 max|eigenvalue|,\n"
+	"                is reported on stderr)\n"
+	"  --accept      exit 0 also when the force tolerance was missed (or a\n"
+	"                saddle could not be left)\n"
 	"  --strict      exit 3 when it was missed (the default; for old scripts)\n"
 	"  -q, --quiet   no report (a missed tolerance is still reported)\n"
 	"  -h, --help    this help\n"
@@ -45,7 +53,7 @@ static const char help[] =
 
 struct opts {
 	cli_model_opts mp;
-	int strict, accept, quiet;
+	int strict, accept, quiet, escape, nocheck;
 	min_opts mo;
 	const char *path;
 };
@@ -66,6 +74,8 @@ static struct opts parse(int argc, char **argv)
 		{ "threads", required_argument, NULL, 'T' },
 		{ "strict", no_argument, NULL, 's' },
 		{ "accept", no_argument, NULL, 'A' },
+		{ "escape", no_argument, NULL, 'E' },
+		{ "no-check", no_argument, NULL, 'N' },
 		{ "quiet", no_argument, NULL, 'q' },
 		{ "help", no_argument, NULL, 'h' },
 		{ "version", no_argument, NULL, 'V' },
@@ -104,6 +114,8 @@ static struct opts parse(int argc, char **argv)
 		case 'T': o.mo.threads = cli_threads(optarg); break;
 		case 's': o.strict = 1; break;
 		case 'A': o.accept = 1; break;
+		case 'E': o.escape = 1; break;
+		case 'N': o.nocheck = 1; break;
 		case 'q': o.quiet = 1; break;
 		case 'h': cli_help(help);
 		case 'V': cli_version();
@@ -112,6 +124,8 @@ static struct opts parse(int argc, char **argv)
 	}
 	if (o.strict && o.accept)
 		cli_usage_error("--strict and --accept exclude each other");
+	if (o.escape && o.nocheck)
+		cli_usage_error("--escape and --no-check exclude each other");
 	if (o.mo.algo == MIN_NEWTON && !o.mo.polish)
 		cli_usage_error("--no-polish: newton has no polish stage (it is the polish)");
 	if (o.mo.algo != MIN_NEWTON && !o.mo.precond && !o.mo.polish)
@@ -129,6 +143,43 @@ static double now(void)
 	struct timespec t;
 	clock_gettime(CLOCK_MONOTONIC, &t);
 	return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
+/* After a relaxation that converged: the second order checked, or with
+ * --escape saddles left.  A note for the history line into note (empty:
+ * none); returns 1 when --escape did not end at a minimum. */
+static int second_order(const struct opts *o, mesh *m, const model *p, const char *which,
+                        char *note, size_t nn)
+{
+	mesh_error err;
+	if (!o->escape) {
+		saddle_count_info c;
+		if (saddle_count(m, p, SADDLE_ZEROTOL, &c, &err) != MESH_OK)
+			cli_warn("%scould not check that the result is a minimum: %s", which, err.msg);
+		else if (c.nneg > 0)
+			cli_warn("%sthe result is a saddle: %d directions of negative curvature "
+			         "(--escape leaves it)", which, c.nneg);
+		return 0;
+	}
+	saddle_report r;
+	int st = saddle_escape(m, p, &o->mo, SADDLE_ZEROTOL, SADDLE_MAX_ESCAPE, &r, &err);
+	if (st == MESH_ENOMEM)
+		cli_die(EXIT_INPUT, "out of memory");
+	if (r.nescape > 0 || st != MESH_OK)
+		snprintf(note, nn, "%d escape%s from saddles: W %.12g -> %.12g%s", r.nescape,
+		         r.nescape == 1 ? "" : "s", r.w0, r.w,
+		         st == MESH_OK ? "" : ", not a minimum");
+	if (st != MESH_OK)
+		cli_warn("%sno minimum reached: %s; W %.12g -> %.12g", which, err.msg, r.w0, r.w);
+	else if (!o->quiet && r.nescape > 0)
+		fprintf(stderr, "%s: %sescape: %d escape%s from saddles (%d directions of negative "
+		        "curvature at the first), W %.12g -> %.12g, max force %.3g, a minimum\n",
+		        cli_name, which, r.nescape, r.nescape == 1 ? "" : "s", r.nneg0, r.w0, r.w,
+		        r.rep.gnorm);
+	else if (!o->quiet)
+		fprintf(stderr, "%s: %sescape: the result is a minimum, no saddle to leave\n",
+		        cli_name, which);
+	return st != MESH_OK;
 }
 
 int main(int argc, char **argv)
@@ -205,7 +256,12 @@ int main(int argc, char **argv)
 			        "evaluations%s\n", cli_name, which, o.mo.ftol, rep.gnorm,
 			        rep.neval + rep.nhessvec, why);
 		}
+		char so[160] = "";
+		if (st == MESH_OK && !o.nocheck)
+			missed |= second_order(&o, m, &p, which, so, sizeof so);
 		cli_history(m);
+		if (*so)
+			cli_history_note(m, so);
 		if (st == MESH_ENOCONV) {
 			char note[128];
 			snprintf(note, sizeof note, "short of max force %g: stopped at %.3g", o.mo.ftol,

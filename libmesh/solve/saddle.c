@@ -271,9 +271,9 @@ int saddle_escape(mesh *m, const model *p, const min_opts *o, double zerotol, in
 		if (rep->relax_status != MESH_OK || rep->rep.stopped) {
 			rep->nneg = -1;
 			st = rep->relax_status == MESH_OK ? MESH_ENOCONV : rep->relax_status;
-			mesh_error_set(err, 0, st, "%s after escape %d",
-			               rep->rep.stopped ? "stopped" : "the relaxation did not converge",
-			               rep->nescape);
+			mesh_error_set(err, 0, st, "the relaxation after escape %d %s at max force %.3g",
+			               rep->nescape, rep->rep.stopped ? "was stopped" : "stopped short",
+			               rep->rep.gnorm);
 			goto done;
 		}
 	}
