@@ -165,10 +165,14 @@ static int second_order(const struct opts *o, mesh *m, const model *p, const cha
 	int st = saddle_escape(m, p, &o->mo, SADDLE_ZEROTOL, SADDLE_MAX_ESCAPE, &r, &err);
 	if (st == MESH_ENOMEM)
 		cli_die(EXIT_INPUT, "out of memory");
+	/* a stopped escape's mesh is marked as every interrupted output is */
+	char stop[48] = "";
+	if (r.rep.stopped)
+		snprintf(stop, sizeof stop, ", interrupted by %s", cli_stop_name());
 	if (r.nescape > 0 || st != MESH_OK)
-		snprintf(note, nn, "%d escape%s from saddles: W %.12g -> %.12g%s", r.nescape,
+		snprintf(note, nn, "%d escape%s from saddles: W %.12g -> %.12g%s%s", r.nescape,
 		         r.nescape == 1 ? "" : "s", r.w0, r.w,
-		         st == MESH_OK ? "" : ", not a minimum");
+		         st == MESH_OK ? "" : ", not a minimum", stop);
 	if (st != MESH_OK)
 		cli_warn("%sno minimum reached: %s; W %.12g -> %.12g", which, err.msg, r.w0, r.w);
 	else if (!o->quiet && r.nescape > 0)
@@ -257,7 +261,7 @@ int main(int argc, char **argv)
 			        rep.neval + rep.nhessvec, why);
 		}
 		char so[160] = "";
-		if (st == MESH_OK && !o.nocheck)
+		if (st == MESH_OK && !o.nocheck && !cli_stop)
 			missed |= second_order(&o, m, &p, which, so, sizeof so);
 		cli_history(m);
 		if (*so)
