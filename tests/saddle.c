@@ -86,7 +86,7 @@ static int honeycomb_count(mesh *m, double p0, const char *what)
 	dense_counts dc;
 	mesh_error err;
 	int rs = relax(m, &p);
-	int st = saddle_count(m, &p, SADDLE_ZEROTOL, &ci, &err);
+	int st = saddle_count(m, &p, SADDLE_ZEROTOL, INFINITY, &ci, &err);
 	int ds = dense(m, &p, &dc);
 	ok(rs == MESH_OK && st == MESH_OK && ds == MESH_OK && ci.nneg == dc.below,
 	   "honeycomb at p0 %.2f, %s: %d negative modes, the dense decomposition's %d", p0, what,
@@ -98,7 +98,7 @@ static int honeycomb_count(mesh *m, double p0, const char *what)
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(13);
+	tap_plan(15);
 	mesh_error err;
 
 	mesh *h = honeycomb();
@@ -155,7 +155,7 @@ int main(void)
 		p.p0 = 3.90;
 		int rs = relax(d, &p);
 		saddle_count_info ci;
-		st = saddle_count(d, &p, SADDLE_ZEROTOL, &ci, &err);
+		st = saddle_count(d, &p, SADDLE_ZEROTOL, INFINITY, &ci, &err);
 		int ds = dense(d, &p, &dc);
 		ok(rs == MESH_OK && st == MESH_OK && ds == MESH_OK && ci.nneg == 0 && dc.below == 0,
 		   "floppy disordered-1 at 3.90: no negative mode (dense: none either)");
@@ -170,12 +170,18 @@ int main(void)
 
 	/* bad arguments */
 	saddle_count_info ci;
-	ok(d && saddle_count(d, &p, 0, &ci, &err) == MESH_EDOM &&
-	   saddle_count(d, &p, 1, &ci, &err) == MESH_EDOM &&
-	   saddle_count(d, &p, NAN, &ci, &err) == MESH_EDOM,
+	ok(d && saddle_count(d, &p, 0, INFINITY, &ci, &err) == MESH_EDOM &&
+	   saddle_count(d, &p, 1, INFINITY, &ci, &err) == MESH_EDOM &&
+	   saddle_count(d, &p, NAN, INFINITY, &ci, &err) == MESH_EDOM,
 	   "saddle_count: a zero tolerance outside (0, 1) is refused");
 	ok(d && saddle_escape(d, &p, &o, SADDLE_ZEROTOL, -1, &sr, &err) == MESH_EDOM,
 	   "saddle_escape: a negative number of escapes is refused");
+	st = d ? saddle_count(d, &p, SADDLE_ZEROTOL, 1e5, &ci, &err) : -1;
+	ok(st == MESH_ETOOBIG, "saddle_count: a factor beyond max_bytes is refused (%s)",
+	   st == MESH_ETOOBIG ? err.msg : "");
+	o.pcmem = 1e5;
+	st = d ? saddle_escape(d, &p, &o, SADDLE_ZEROTOL, 20, &sr, &err) : -1;
+	ok(st == MESH_ETOOBIG, "saddle_escape: the same within min_opts.pcmem");
 	mesh_free(d);
 	return tap_done();
 }

@@ -154,7 +154,7 @@ static int second_order(const struct opts *o, mesh *m, const model *p, const cha
 	mesh_error err;
 	if (!o->escape) {
 		saddle_count_info c;
-		if (saddle_count(m, p, SADDLE_ZEROTOL, &c, &err) != MESH_OK)
+		if (saddle_count(m, p, SADDLE_ZEROTOL, o->mo.pcmem, &c, &err) != MESH_OK)
 			cli_warn("%scould not check that the result is a minimum: %s", which, err.msg);
 		else if (c.nneg > 0)
 			cli_warn("%sthe result is a saddle: %d directions of negative curvature "

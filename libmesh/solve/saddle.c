@@ -26,6 +26,7 @@ typedef struct {
 	hessian_sparse *hs;
 	spchol *chol;
 	ldl *f;
+	double max_bytes;
 	saddle_count_info c;
 } hwork;
 
@@ -36,19 +37,32 @@ static void hwork_free(hwork *w)
 	hessian_sparse_free(w->hs);
 }
 
-static int hwork_alloc(const mesh *m, hwork *w, mesh_error *err)
+static int hwork_alloc(const mesh *m, double max_bytes, hwork *w, mesh_error *err)
 {
 	memset(w, 0, sizeof *w);
+	w->max_bytes = max_bytes;
 	if ((w->hs = hessian_sparse_alloc(m)) == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
 	return MESH_OK;
 }
 
-static int hwork_ldl(hwork *w)
+/* The factors' analyses, refused (MESH_ETOOBIG) before any numeric work
+ * when their factors would take more than w->max_bytes. */
+static int hwork_chol(const mesh *m, hwork *w, mesh_error *err)
 {
-	if (w->f == NULL)
-		w->f = ldl_analyze(w->hs->h);
-	return w->f ? MESH_OK : MESH_ENOMEM;
+	if (w->chol == NULL && (w->chol = spchol_analyze(w->hs->h)) == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	return mesh_memory_check(m, spchol_bytes(w->chol), w->max_bytes,
+	                         "the check of the second order (a Cholesky factor of the hessian)",
+	                         err);
+}
+
+static int hwork_ldl(const mesh *m, hwork *w, mesh_error *err)
+{
+	if (w->f == NULL && (w->f = ldl_analyze(w->hs->h)) == NULL)
+		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	return mesh_memory_check(m, spchol_bytes(w->chol) + ldl_bytes(w->f), w->max_bytes,
+	                         "the count of negative modes (an LDL^T factor of the hessian)", err);
 }
 
 /* The Hessian at m->r, its scale and the count of eigenvalues below -tol
@@ -65,13 +79,15 @@ static int count(const mesh *m, const model *p, double zerotol, hwork *w, mesh_e
 		                                  : "the hessian is zero: no scale for its modes");
 	c->tol = zerotol * c->lmax;
 	/* a minimum, the common case: Cholesky succeeds */
-	if (w->chol == NULL && (w->chol = spchol_analyze(h)) == NULL)
-		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	if ((st = hwork_chol(m, w, err)) != MESH_OK)
+		return st;
 	st = spchol_factor(w->chol, h, c->tol);
 	if (st == MESH_OK)
 		return MESH_OK;
-	if (st == MESH_ENOMEM || hwork_ldl(w) != MESH_OK)
+	if (st == MESH_ENOMEM)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
+	if ((st = hwork_ldl(m, w, err)) != MESH_OK)
+		return st;
 	c->chol_failed = 1;
 	st = ldl_inertia(w->f, h, c->tol, SADDLE_MAXGROWTH * c->lmax, &c->nneg);
 	c->growth = ldl_growth(w->f) / c->lmax;
@@ -86,14 +102,14 @@ static int count(const mesh *m, const model *p, double zerotol, hwork *w, mesh_e
 	return MESH_OK;
 }
 
-int saddle_count(const mesh *m, const model *p, double zerotol, saddle_count_info *info,
-                 mesh_error *err)
+int saddle_count(const mesh *m, const model *p, double zerotol, double max_bytes,
+                 saddle_count_info *info, mesh_error *err)
 {
 	memset(info, 0, sizeof *info);
 	if (!(zerotol > 0) || !(zerotol < 1))
 		return mesh_error_set(err, 0, MESH_EDOM, "zero-mode tolerance must be in (0, 1)");
 	hwork w;
-	int st = hwork_alloc(m, &w, err);
+	int st = hwork_alloc(m, max_bytes, &w, err);
 	if (st != MESH_OK)
 		return st;
 	st = count(m, p, zerotol, &w, err);
@@ -213,7 +229,7 @@ int saddle_escape(mesh *m, const model *p, const min_opts *o, double zerotol, in
 		return mesh_error_set(err, 0, MESH_EDOM, "zero-mode tolerance must be in (0, 1) "
 		                      "and the number of escapes >= 0");
 	hwork w;
-	int st = hwork_alloc(m, &w, err);
+	int st = hwork_alloc(m, o->pcmem, &w, err);
 	if (st != MESH_OK)
 		return st;
 	int n = 2 * m->nv;

@@ -66,13 +66,17 @@ typedef struct {
 
 /* Count the negative modes of the Hessian of W at m->r and p (m at
  * rest: the count says nothing about a point where the force is not
- * zero).  zerotol in (0, 1): SADDLE_ZEROTOL for the suite's cut.
- * MESH_OK; MESH_EDOM for zerotol; MESH_ENOMEM; MESH_ENOCONV when the
- * factorization meets a zero pivot or grows beyond SADDLE_MAXGROWTH
- * max |lambda| (the count is not trustworthy), or Lanczos finds no scale
- * (a zero Hessian); err says which. */
-int saddle_count(const mesh *m, const model *p, double zerotol, saddle_count_info *info,
-                 mesh_error *err);
+ * zero).  zerotol in (0, 1): SADDLE_ZEROTOL for the suite's cut.  The
+ * factors may take max_bytes (INFINITY: no limit; mesh_relax's complete
+ * factor has min_opts.pcmem): a Cholesky factor (10^4 cells: 73 MB, the
+ * sample at rest 1.0 CPU s against 0.08 to relax it, bench/RESULTS.md),
+ * and when that fails an LDL^T factor beside it.  MESH_OK; MESH_EDOM for
+ * zerotol; MESH_ETOOBIG before any numeric work; MESH_ENOMEM;
+ * MESH_ENOCONV when the factorization meets a zero pivot or grows beyond
+ * SADDLE_MAXGROWTH max |lambda| (the count is not trustworthy), or
+ * Lanczos finds no scale (a zero Hessian); err says which. */
+int saddle_count(const mesh *m, const model *p, double zerotol, double max_bytes,
+                 saddle_count_info *info, mesh_error *err);
 
 typedef struct {
 	int nneg0;         /* negative modes at the start */
@@ -88,13 +92,15 @@ typedef struct {
 
 /* From a relaxed m, escape saddles and relax again with o (mesh_relax)
  * until the Hessian has no negative mode (zerotol's cut) or max_escape
- * escapes were made.  m->r is left at the last relaxed point (W never
+ * escapes were made, its factors within o->pcmem bytes (as
+ * saddle_count's max_bytes).  m->r is left at the last relaxed point (W never
  * higher than at the start).  MESH_OK: a minimum (rep->nneg == 0, also
  * when m was one already: nescape 0); MESH_ENOCONV: negative modes left
  * after max_escape escapes, a relaxation that missed o->ftol or was
  * stopped (rep->relax_status, rep->rep.stopped), or no step along the
  * direction lowered W; MESH_EINVAL: every step's relaxation would turn
- * a cell over; saddle_count's failures; MESH_EDOM for max_escape < 0.
+ * a cell over; saddle_count's failures (MESH_ETOOBIG among them);
+ * MESH_EDOM for max_escape < 0.
  * err has a message for every failure. */
 int saddle_escape(mesh *m, const model *p, const min_opts *o, double zerotol, int max_escape,
                   saddle_report *rep, mesh_error *err);
