@@ -142,6 +142,7 @@ int main(void)
 	   memcmp(r, h->r, 2 * (size_t)h->nv * sizeof *r) == 0,
 	   "escape from a minimum: none made, the mesh unchanged");
 	free(r);
+	mesh_free(h);
 
 	/* floppy: hundreds of zero modes, computed with either sign */
 	mesh *d = NULL;
