@@ -10,7 +10,7 @@
  *   cli_table.h     tables: provenance, files beside a run
  *   cli_memory.h    jobs too large for the machine, refused before they start
  *   cli_signal.h    SIGINT and SIGTERM as a request to stop
- *   cli_progress.h  progress lines on a terminal
+ *   cli_progress.h  progress lines on a terminal, a run's time
  *
  * (cli_spawn.h, running a helper program through pipes, is tis-movie's
  * alone, and cli_rest.h, an input not at rest, that of the programs that

@@ -237,7 +237,8 @@ static void opt_apply(cli_optdef *d, const char *arg, int argc, char **argv)
 int cli_parse(int argc, char **argv, cli_optdef *defs, const char *help)
 {
 	struct option lo[OPT_MAX + 3];
-	int n = 0;
+	char shorts[2 * OPT_MAX + 3] = ":h";
+	int n = 0, ns = 2;
 	for (; defs[n].name; n++) {
 		if (n == OPT_MAX)
 			cli_die(EXIT_USAGE, "more than %d options in a table", OPT_MAX);
@@ -245,16 +246,25 @@ int cli_parse(int argc, char **argv, cli_optdef *defs, const char *help)
 		lo[n] = (struct option){ defs[n].name, flag ? no_argument : required_argument, NULL,
 		                         OPT_BASE + n };
 		defs[n].seen = 0;
+		if (defs[n].key) {
+			shorts[ns++] = (char)defs[n].key;
+			if (!flag)
+				shorts[ns++] = ':';
+		}
 	}
+	shorts[ns] = '\0';
 	lo[n] = (struct option){ "help", no_argument, NULL, 'h' };
 	lo[n + 1] = (struct option){ "version", no_argument, NULL, OPT_BASE + n };
 	lo[n + 2] = (struct option){ 0 };
 	int c, place = 0;
-	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
+	while ((c = getopt_long(argc, argv, shorts, lo, NULL)) != -1) {
 		if (c == 'h')
 			cli_help(help);
 		if (c == OPT_BASE + n)
 			cli_version();
+		for (int k = 0; c < OPT_BASE && k < n; k++)
+			if (defs[k].key == c)
+				c = OPT_BASE + k;
 		if (c < OPT_BASE)
 			cli_bad_option(argv, c);
 		cli_optdef *d = &defs[c - OPT_BASE];

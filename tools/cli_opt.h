@@ -71,7 +71,8 @@ void cli_model_set(mesh *m, const cli_model_opts *mo);
  * value goes, so that parse() is the table and the checks between
  * options.  Messages are those of the functions above, naming the option
  * as --name; -h/--help (cli_help) and --version (cli_version) come with
- * every table, and -h is the only short option.  At most 96 entries. */
+ * every table, and the short options are -h and an entry's key.  At most
+ * 96 entries. */
 typedef enum {
 	CLI_FLAG,       /* no argument: *(int *)to = val */
 	CLI_DOUBLE,     /* a number in [lo, hi] (cli_double_range): *(double *)to */
@@ -100,6 +101,7 @@ typedef struct {
 	                       CLI_JUNCTIONS' and CLI_ALL's choose */
 	int (*parse)(void *to, const char *arg);
 	unsigned group;     /* bits the program chooses, for cli_opt_first */
+	int key;            /* its short option as well (-q), 0: none */
 	int seen;           /* set by cli_parse: the option's first place among
 	                       those given (1, 2, ...), 0 if not given */
 } cli_optdef;

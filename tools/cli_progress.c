@@ -1,4 +1,4 @@
-/* cli_progress.c - when to write a progress line. */
+/* cli_progress.c - when to write a progress line; a run's time. */
 #include "cli.h"
 
 #include <unistd.h>
@@ -17,4 +17,11 @@ int cli_progress_due(cli_progress *pr, int force)
 		return 0;
 	pr->last = now;
 	return 1;
+}
+
+double cli_seconds(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return t.tv_sec + 1e-9 * t.tv_nsec;
 }

@@ -13,4 +13,7 @@ typedef struct {
 void cli_progress_init(cli_progress *pr);
 int cli_progress_due(cli_progress *pr, int force);
 
+/* The monotonic clock in seconds: a report's run time. */
+double cli_seconds(void);
+
 #endif

@@ -26,6 +26,14 @@ double junction_length(const mesh *m, const double *r, int j)
 	return junction_vec(m, r, j, d);
 }
 
+double junction_length_min(const mesh *m, const double *r)
+{
+	double l = INFINITY;
+	for (int j = 0; j < m->nj; j++)
+		l = fmin(l, junction_length(m, r, j));
+	return l;
+}
+
 double cell_area(const mesh *m, const double *r, int k)
 {
 	int s = m->coff[k], e = m->coff[k + 1];

@@ -14,6 +14,8 @@
 /* Junction vector d = r_b - r_a (minimum image) and its length. */
 double junction_vec(const mesh *m, const double *r, int j, double d[2]);
 double junction_length(const mesh *m, const double *r, int j);
+/* The shortest junction's length (INFINITY if there is none). */
+double junction_length_min(const mesh *m, const double *r);
 /* The same with sqrt of the sum of squares in place of hypot: the form the
  * active-junction schemes are written in (faster; their bits depend on it). */
 double junction_vec_sqrt(const mesh *m, const double *r, int j, double d[2]);
