@@ -1,10 +1,7 @@
 /* tis-relax - relax a tissue to the nearest energy minimum at fixed topology. */
-#include <getopt.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
 
 #include "cli.h"
 #include "energy.h"
@@ -58,70 +55,44 @@ struct opts {
 	const char *path;
 };
 
+static int algo(void *to, const char *arg) { return !min_algo_parse(arg, to); }
+
+static int pckind(void *to, const char *arg)
+{
+	int k = strcmp(arg, "auto") == 0 ? MIN_PC_AUTO : strcmp(arg, "cholesky") == 0 ?
+	        MIN_PC_CHOLESKY : strcmp(arg, "schwarz") == 0 ? MIN_PC_SCHWARZ : -1;
+	if (k >= 0)
+		*(min_pckind *)to = (min_pckind)k;
+	return k < 0;
+}
+
 static struct opts parse(int argc, char **argv)
 {
-	static const struct option lo[] = {
-		{ "p0", required_argument, NULL, 'p' },
-		{ "ka", required_argument, NULL, 'k' },
-		{ "ftol", required_argument, NULL, 'f' },
-		{ "maxeval", required_argument, NULL, 'n' },
-		{ "algo", required_argument, NULL, 'a' },
-		{ "no-polish", no_argument, NULL, 'P' },
-		{ "no-precond", no_argument, NULL, 'C' },
-		{ "precond", required_argument, NULL, 'K' },
-		{ "block", required_argument, NULL, 'b' },
-		{ "overlap", required_argument, NULL, 'O' },
-		{ "threads", required_argument, NULL, 'T' },
-		{ "strict", no_argument, NULL, 's' },
-		{ "accept", no_argument, NULL, 'A' },
-		{ "escape", no_argument, NULL, 'E' },
-		{ "no-check", no_argument, NULL, 'N' },
-		{ "quiet", no_argument, NULL, 'q' },
-		{ "help", no_argument, NULL, 'h' },
-		{ "version", no_argument, NULL, 'V' },
-		{ 0 }
-	};
 	struct opts o = { 0 };
 	min_opts_init(&o.mo);
 	o.mo.threads = 0;
-	int c;
-	while ((c = getopt_long(argc, argv, ":hq", lo, NULL)) != -1) {
-		switch (c) {
-		case 'p': cli_model_option(&o.mp, "p0", optarg); break;
-		case 'k': cli_model_option(&o.mp, "ka", optarg); break;
-		case 'f': o.mo.ftol = cli_double_range("--ftol", optarg, 0, 1e6); break;
-		case 'n': o.mo.maxeval = cli_long("--maxeval", optarg, 1, 1000000000); break;
-		case 'a':
-			if (!min_algo_parse(optarg, &o.mo.algo))
-				cli_usage_error("--algo: unknown method '%s' (newton, lbfgs, "
-				                "tnewton, var2, bfgs2, fire)", optarg);
-			break;
-		case 'P': o.mo.polish = 0; break;
-		case 'C': o.mo.precond = 0; break;
-		case 'K':
-			if (strcmp(optarg, "auto") == 0)
-				o.mo.pckind = MIN_PC_AUTO;
-			else if (strcmp(optarg, "cholesky") == 0)
-				o.mo.pckind = MIN_PC_CHOLESKY;
-			else if (strcmp(optarg, "schwarz") == 0)
-				o.mo.pckind = MIN_PC_SCHWARZ;
-			else
-				cli_usage_error("--precond: unknown kind '%s' (auto, cholesky, "
-				                "schwarz)", optarg);
-			break;
-		case 'O': o.mo.pcoverlap = (int)cli_long("--overlap", optarg, 0, 1000); break;
-		case 'b': o.mo.pcblock = (int)cli_long("--block", optarg, 2, 100000000); break;
-		case 'T': o.mo.threads = cli_threads(optarg); break;
-		case 's': o.strict = 1; break;
-		case 'A': o.accept = 1; break;
-		case 'E': o.escape = 1; break;
-		case 'N': o.nocheck = 1; break;
-		case 'q': o.quiet = 1; break;
-		case 'h': cli_help(help);
-		case 'V': cli_version();
-		default: cli_bad_option(argv, c);
-		}
-	}
+	cli_optdef d[] = {
+		{ "p0", CLI_MODEL, .to = &o.mp },
+		{ "ka", CLI_MODEL, .to = &o.mp },
+		{ "ftol", CLI_DOUBLE, &o.mo.ftol, .lo = 0, .hi = 1e6 },
+		{ "maxeval", CLI_LONG, &o.mo.maxeval, .lo = 1, .hi = 1000000000 },
+		{ "algo", CLI_PARSE, &o.mo.algo, .parse = algo,
+		  .msg = "--algo: unknown method '%s' (newton, lbfgs, tnewton, var2, bfgs2, fire)" },
+		{ "no-polish", CLI_FLAG, &o.mo.polish, .val = 0 },
+		{ "no-precond", CLI_FLAG, &o.mo.precond, .val = 0 },
+		{ "precond", CLI_PARSE, &o.mo.pckind, .parse = pckind,
+		  .msg = "--precond: unknown kind '%s' (auto, cholesky, schwarz)" },
+		{ "block", CLI_INT, &o.mo.pcblock, .lo = 2, .hi = 100000000 },
+		{ "overlap", CLI_INT, &o.mo.pcoverlap, .lo = 0, .hi = 1000 },
+		{ "threads", CLI_INT, &o.mo.threads, .lo = 1, .hi = ENERGY_MAXTHREADS },
+		{ "strict", CLI_FLAG, &o.strict, .val = 1 },
+		{ "accept", CLI_FLAG, &o.accept, .val = 1 },
+		{ "escape", CLI_FLAG, &o.escape, .val = 1 },
+		{ "no-check", CLI_FLAG, &o.nocheck, .val = 1 },
+		{ "quiet", CLI_FLAG, &o.quiet, .val = 1, .key = 'q' },
+		{ NULL }
+	};
+	int first = cli_parse(argc, argv, d, help);
 	if (o.strict && o.accept)
 		cli_usage_error("--strict and --accept exclude each other");
 	if (o.escape && o.nocheck)
@@ -130,19 +101,13 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("--no-polish: newton has no polish stage (it is the polish)");
 	if (o.mo.algo != MIN_NEWTON && !o.mo.precond && !o.mo.polish)
 		cli_usage_error("--no-precond: only Newton-CG is preconditioned");
-	if (argc - optind > 1)
+	/* "mesh file": cli_opt_input's message says "input file" */
+	if (argc - first > 1)
 		cli_usage_error("at most one mesh file");
-	o.path = optind < argc ? argv[optind] : NULL;
+	o.path = first < argc ? argv[first] : NULL;
 	o.mo.threads = cli_threads_apply(o.mo.threads, 1);
 	o.mo.thread_min = cli_thread_min();
 	return o;
-}
-
-static double now(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return t.tv_sec + 1e-9 * t.tv_nsec;
 }
 
 /* After a relaxation that converged: the second order checked, or with
@@ -207,9 +172,9 @@ int main(int argc, char **argv)
 		mesh_state_clear(m);
 		model p = model_from_mesh(m);
 		min_report rep;
-		double t0 = now();
+		double t0 = cli_seconds();
 		int st = mesh_relax(m, &p, &o.mo, &rep);
-		double dt = now() - t0;
+		double dt = cli_seconds() - t0;
 		if (st == MESH_ENOMEM)
 			cli_die(EXIT_INPUT, "out of memory");
 		if (st == MESH_EDOM)
@@ -248,11 +213,8 @@ int main(int argc, char **argv)
 		}
 		if (st == MESH_ENOCONV) {
 			missed = 1;
-			double lmin = INFINITY;
-			for (int j = 0; j < m->nj; j++)
-				lmin = fmin(lmin, junction_length(m, m->r, j));
 			const char *why = "";
-			if (lmin < 1e-6)
+			if (junction_length_min(m, m->r) < 1e-6)
 				why = " (a junction shrank to zero: no minimum at this topology)";
 			else if (p.p0 >= TIS_PHEX)
 				why = " (p0 >= p_hex: the minimum need not be isolated)";
