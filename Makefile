@@ -105,7 +105,7 @@ $(O)bin/%: tools/%.c $(CLI) $(CLI_H) $(LIB) $(LIB_H)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) -Itools $(LDFLAGS) -o $@ $< $(CLI) $(LIB) $(LIBS)
 
-$(O)tests/%.test: tests/%.c tests/tap.h $(LIB) $(LIB_H)
+$(O)tests/%.test: tests/%.c tests/tap.h tests/sample.h $(LIB) $(LIB_H)
 	@mkdir -p $(@D)
 	$(CC) $(ALL_CFLAGS) $(LDFLAGS) -o $@ $< $(LIB) $(LIBS)
 

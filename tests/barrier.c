@@ -12,21 +12,9 @@
 #include "forcelen.h"
 #include "geom.h"
 #include "lattice.h"
+#include "sample.h"
 #include "tap.h"
 
-static mesh *sample(void)
-{
-	FILE *f = fopen("samples/disordered-1.mesh", "r");
-	mesh *m = NULL;
-	long line = 0;
-	mesh_error err;
-	if (f) {
-		if (mesh_read(f, &line, &m, &err) != MESH_OK)
-			m = NULL;
-		fclose(f);
-	}
-	return m;
-}
 
 static int run(const mesh *m, const model *p, int j, const bar_opts *o, bar_result *r)
 {
@@ -41,7 +29,7 @@ int main(void)
 {
 	gsl_set_error_handler_off();
 	tap_plan(12);
-	mesh *d = sample();
+	mesh *d = test_mesh("samples/disordered-1.mesh");
 	ok(d != NULL, "samples/disordered-1.mesh");
 	model p = model_from_mesh(d);
 	bar_opts o;

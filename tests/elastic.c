@@ -14,6 +14,7 @@
 #include "elastic.h"
 #include "lattice.h"
 #include "measure.h"
+#include "sample.h"
 #include "tap.h"
 
 static double rel(double a, double b, double scale)
@@ -30,19 +31,6 @@ static mesh *honeycomb(void)
 	return m;
 }
 
-static mesh *sample(const char *path)
-{
-	FILE *f = fopen(path, "r");
-	mesh *m = NULL;
-	long line = 0;
-	mesh_error err;
-	if (f == NULL)
-		return NULL;
-	if (mesh_read(f, &line, &m, &err) != MESH_OK)
-		m = NULL;
-	fclose(f);
-	return m;
-}
 
 static int compute(const mesh *m, const model *p, elastic_result *r)
 {
@@ -219,7 +207,7 @@ int main(void)
 	ok(st == MESH_OK && r.nneg > 0 && rel(r.G, gs, fabs(gs)) < 1e-9,
 	   "honeycomb p0 3.75: a saddle (nneg %d), G = p_hex (p_hex - p0)/2 = %.6g < 0", r.nneg, r.G);
 
-	mesh *d = sample("samples/disordered-1.mesh");
+	mesh *d = test_mesh("samples/disordered-1.mesh");
 	ok(d != NULL, "samples/disordered-1.mesh");
 	model pd = model_from_mesh(d);
 	against_fd(d, &pd, 1e-3, 1e-6, "disordered-1 p0 3.65");

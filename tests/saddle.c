@@ -13,6 +13,7 @@
 #include "hessian.h"
 #include "lattice.h"
 #include "saddle.h"
+#include "sample.h"
 #include "tap.h"
 
 /* The dense spectrum's counts at the cut tol = zerotol max |lambda|:
@@ -145,13 +146,8 @@ int main(void)
 	mesh_free(h);
 
 	/* floppy: hundreds of zero modes, computed with either sign */
-	mesh *d = NULL;
-	long line = 0;
-	FILE *f = fopen("samples/disordered-1.mesh", "r");
-	int rd = f ? mesh_read(f, &line, &d, &err) : MESH_EIO;
-	if (f)
-		fclose(f);
-	if (rd == MESH_OK) {
+	mesh *d = test_mesh("samples/disordered-1.mesh");
+	if (d != NULL) {
 		p = model_from_mesh(d);
 		p.p0 = 3.90;
 		int rs = relax(d, &p);

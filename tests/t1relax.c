@@ -12,6 +12,7 @@
 #include "geom.h"
 #include "lattice.h"
 #include "t1relax.h"
+#include "sample.h"
 #include "tap.h"
 #include "topology.h"
 
@@ -50,13 +51,7 @@ int main(void)
 	ok(n >= 6 && same == 6 && dl < 1e-9 && dw < 1e-9,
 	   "6 translation copies: the same status, l1 and W1 (to %.2g, %.2g)", dl, dw);
 
-	mesh *d = NULL;
-	FILE *f = fopen("samples/disordered-1.mesh", "r");
-	long line = 0;
-	if (f) {
-		mesh_read(f, &line, &d, &err);
-		fclose(f);
-	}
+	mesh *d = test_mesh("samples/disordered-1.mesh");
 	ok(d != NULL, "samples/disordered-1.mesh");
 	model pd = model_from_mesh(d);
 	/* a short junction lengthens, at rest */
