@@ -1064,12 +1064,9 @@ int mesh_relax(mesh *m, const model *p, const min_opts *o, min_report *rep)
 		memcpy(x, m->r, 2 * (size_t)m->nv * sizeof *x);
 		st = min_run(2 * m->nv, x, objective, w, &oo, rep);
 		if (st == MESH_OK || st == MESH_ENOCONV) {
-			for (int k = 0; k < m->nc; k++)
-				if (!(cell_area(m, x, k) > 0)) {
-					st = MESH_EINVAL;
-					break;
-				}
-			if (st != MESH_EINVAL) {
+			if (!cell_areas_positive(m, x)) {
+				st = MESH_EINVAL;
+			} else {
 				memcpy(m->r, x, 2 * (size_t)m->nv * sizeof *x);
 				if (oo.prox == 0)
 					mesh_wrap(m);

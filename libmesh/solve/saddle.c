@@ -168,14 +168,6 @@ static int direction(hwork *w, double *v, double *hv, double *curv)
 	return rq < -w->c.tol ? MESH_OK : MESH_ENOCONV;
 }
 
-static int cells_positive(const mesh *m, const double *r)
-{
-	for (int k = 0; k < m->nc; k++)
-		if (!(cell_area(m, r, k) > 0))
-			return 0;
-	return 1;
-}
-
 /* m->r moved along v (curvature curv) by the largest step, of largest
  * vertex displacement SADDLE_STEP * scale halved, whose W falls by a
  * quarter of the quadratic model's prediction; *scale is the step taken.
@@ -196,7 +188,7 @@ static int step(mesh *m, const model *p, const double *v, double curv, const dou
 			for (int i = 0; i < n; i++)
 				trial[i] = r0[i] + s * t * v[i];
 			double w = mesh_energy(m, trial, p, NULL, ew);
-			if (w < best && cells_positive(m, trial)) {
+			if (w < best && cell_areas_positive(m, trial)) {
 				best = w;
 				sbest = s;
 			}

@@ -49,6 +49,14 @@ double cell_area(const mesh *m, const double *r, int k)
 	return 0.5 * a;
 }
 
+int cell_areas_positive(const mesh *m, const double *r)
+{
+	for (int k = 0; k < m->nc; k++)
+		if (!(cell_area(m, r, k) > 0))
+			return 0;
+	return 1;
+}
+
 double cell_perimeter(const mesh *m, const double *r, int k)
 {
 	double p = 0;

@@ -20,6 +20,9 @@ double junction_length_min(const mesh *m, const double *r);
  * active-junction schemes are written in (faster; their bits depend on it). */
 double junction_vec_sqrt(const mesh *m, const double *r, int j, double d[2]);
 double cell_area(const mesh *m, const double *r, int k);
+/* Whether every cell has positive area at r (1) or some cell does not
+ * (0): coordinates a minimizer may hand back as a tissue. */
+int cell_areas_positive(const mesh *m, const double *r);
 double cell_perimeter(const mesh *m, const double *r, int k);
 
 #endif
