@@ -132,7 +132,7 @@ static struct opts parse(int argc, char **argv)
 		{ "t1", CLI_DOUBLE, &d->t1_length, .lo = 0, .hi = 0.5 },
 		{ "t1-new", CLI_DOUBLE, &d->t1_new, .lo = 1e-9, .hi = 0.5 },
 		{ "threads", CLI_INT, &d->threads, .lo = 1, .hi = ENERGY_MAXTHREADS },
-		{ NULL }
+		{ 0 }
 	};
 	int first = cli_parse(argc, argv, t, help);
 	if (cli_opt_first(t, 1) && o.a.nstage > 0)

@@ -93,7 +93,7 @@ static struct opts parse(int argc, char **argv)
 		{ "max-fres", CLI_DOUBLE, &o.sel.max_fres, .lo = 0, .hi = 1e6 },
 		{ "status", CLI_PARSE, &o.sel.status, .parse = parse_status,
 		  .msg = "--status: no status given" },
-		{ NULL }
+		{ 0 }
 	};
 	int first = cli_parse(argc, argv, d, help);
 	if (o.cusps && o.summary)
