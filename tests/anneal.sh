@@ -3,7 +3,7 @@
 # signals.  Short runs on a 6x6 tissue.
 . "$(dirname "$0")/lib.sh"
 
-plan 44
+plan 45
 
 # a mesh is valid when tis-anneal reads it back (mesh_build checks every
 # invariant) through a zero-length run
@@ -68,6 +68,8 @@ tis-anneal --paper --stage 0.5:3 --stage 0:300 --relax 0 --seed 2 --settle 0 "$T
 ok "settling is said in the history line, with the time it covered" \
 	grep -Eq '# .*; 1 sigma=0 stages finished by Newton minimization at fixed topology once max force and tension <= 0.0001 \(settle\), covering [0-9.]+ time units' "$T/s1.mesh"
 ok "--settle 0 steps through (no settling in the history line)" sh -c "! grep -q 'Newton minimization' '$T/s0.mesh'"
+ok "--quench adaptive runs the adaptive scheme (its counts in the history line), --paper's euler not" \
+	sh -c "grep -q '; adaptive quench: ' '$T/s1.mesh' && ! grep -q 'adaptive quench' '$T/s0.mesh'"
 # (stepping leaves tensions of ~1e-131 after 300 time units; settling drops them)
 cells() { awk '/^cells/ { c = 1 } /^(junctions|end)/ { c = 0 } c' "$1"; }
 cells "$T/s1.mesh" >"$T/sc1"; cells "$T/s0.mesh" >"$T/sc0"

@@ -231,6 +231,7 @@ static void opt_apply(cli_optdef *d, const char *arg, int argc, char **argv)
 		if (d->parse(d->to, arg) != 0)
 			cli_usage_error(d->msg, arg);
 		break;
+	case CLI_CALL: d->parse(d->to, NULL); break;
 	}
 }
 
@@ -242,7 +243,7 @@ int cli_parse(int argc, char **argv, cli_optdef *defs, const char *help)
 	for (; defs[n].name; n++) {
 		if (n == OPT_MAX)
 			cli_die(EXIT_USAGE, "more than %d options in a table", OPT_MAX);
-		int flag = defs[n].kind == CLI_FLAG || defs[n].kind == CLI_ALL;
+		int flag = defs[n].kind == CLI_FLAG || defs[n].kind == CLI_ALL || defs[n].kind == CLI_CALL;
 		lo[n] = (struct option){ defs[n].name, flag ? no_argument : required_argument, NULL,
 		                         OPT_BASE + n };
 		defs[n].seen = 0;

@@ -87,8 +87,10 @@ typedef enum {
 	CLI_ALL,        /* the same without an argument: every junction
 	                   (--all, --network) */
 	CLI_MODEL,      /* "p0" or "ka" (cli_model_option): *(cli_model_opts *)to */
-	CLI_PARSE       /* parse(to, argument); nonzero: a usage error, the
+	CLI_PARSE,      /* parse(to, argument); nonzero: a usage error, the
 	                   message msg with the argument for its one %s */
+	CLI_CALL        /* no argument: parse(to, NULL), in its place among
+	                   the options (a preset that later ones override) */
 } cli_optkind;
 
 typedef struct {

@@ -1,7 +1,6 @@
 /* tis-anneal - fluidize, quench and relax a tissue with OU tension noise
  * and T1 transitions (the paper's sample preparation). */
 #include <errno.h>
-#include <getopt.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -69,23 +68,21 @@ static const char help[] =
 
 struct opts {
 	anneal_opts a;
-	int has_sigma;
 	double sigma;
 	cli_model_opts mo;
 	const char *log;
 	const char *input;
 };
 
-static void parse_stage(struct opts *o, const char *arg)
+/* --stage SIGMA:DURATION, one more stage. */
+static int parse_stage(void *to, const char *arg)
 {
-	anneal_opts *a = &o->a;
+	anneal_opts *a = to;
 	if (a->nstage >= ANNEAL_MAXSTAGE)
 		cli_usage_error("at most %d stages", ANNEAL_MAXSTAGE);
 	const char *colon = strchr(arg, ':');
-	if (colon == NULL)
-		cli_usage_error("--stage: expected SIGMA:DURATION, got '%s'", arg);
 	char sbuf[64];
-	size_t n = (size_t)(colon - arg);
+	size_t n = colon ? (size_t)(colon - arg) : sizeof sbuf;
 	if (n >= sizeof sbuf)
 		cli_usage_error("--stage: expected SIGMA:DURATION, got '%s'", arg);
 	memcpy(sbuf, arg, n);
@@ -93,87 +90,56 @@ static void parse_stage(struct opts *o, const char *arg)
 	a->sig[a->nstage] = cli_double_range("--stage sigma", sbuf, 0, 100);
 	a->dur[a->nstage] = cli_double_range("--stage duration", colon + 1, 0, 1e9);
 	a->nstage++;
+	return 0;
+}
+
+static int quench(void *to, const char *arg) { return !dyn_quench_parse(arg, to); }
+
+static int paper(void *to, const char *arg)
+{
+	(void)arg;
+	anneal_opts_paper(to);
+	return 0;
 }
 
 static struct opts parse(int argc, char **argv)
 {
-	enum { O_SIGMA = 256, O_STAGE, O_RELAX, O_TAU, O_SEED, O_P0, O_KA, O_EVERY,
-	       O_LOG, O_LOGEVERY, O_DT, O_DR, O_OUDT, O_SETTLE, O_SETTLET1, O_IMPLICIT, O_T1, O_T1NEW, O_QUENCH, O_PAPER, O_T1AGAIN,
-	       O_VERSION };
-	static const struct option lo[] = {
-		{ "sigma", required_argument, NULL, O_SIGMA },
-		{ "stage", required_argument, NULL, O_STAGE },
-		{ "relax", required_argument, NULL, O_RELAX },
-		{ "tau", required_argument, NULL, O_TAU },
-		{ "seed", required_argument, NULL, O_SEED },
-		{ "p0", required_argument, NULL, O_P0 },
-		{ "ka", required_argument, NULL, O_KA },
-		{ "every", required_argument, NULL, O_EVERY },
-		{ "log", required_argument, NULL, O_LOG },
-		{ "log-every", required_argument, NULL, O_LOGEVERY },
-		{ "dt", required_argument, NULL, O_DT },
-		{ "dr", required_argument, NULL, O_DR },
-		{ "ou-dt", required_argument, NULL, O_OUDT },
-		{ "settle", required_argument, NULL, O_SETTLE },
-		{ "settle-t1", no_argument, NULL, O_SETTLET1 },
-		{ "implicit", required_argument, NULL, O_IMPLICIT },
-		{ "quench", required_argument, NULL, O_QUENCH },
-		{ "paper", no_argument, NULL, O_PAPER },
-		{ "t1-again", required_argument, NULL, O_T1AGAIN },
-		{ "t1", required_argument, NULL, O_T1 },
-		{ "t1-new", required_argument, NULL, O_T1NEW },
-		{ "threads", required_argument, NULL, 'T' },
-		{ "help", no_argument, NULL, 'h' },
-		{ "version", no_argument, NULL, O_VERSION },
-		{ 0 }
-	};
 	struct opts o = { 0 };
 	anneal_opts_init(&o.a);
 	o.a.d.threads = 0;
-	int c;
-	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
-		switch (c) {
-		case O_SIGMA: o.sigma = cli_double_range("--sigma", optarg, 0, 100); o.has_sigma = 1; break;
-		case O_STAGE: parse_stage(&o, optarg); break;
-		case O_RELAX: o.a.relax = cli_double_range("--relax", optarg, 0, 1e9); break;
-		case O_TAU: o.a.d.tau = cli_double_range("--tau", optarg, 1e-9, 1e9); break;
-		case O_SEED: o.a.seed = (unsigned long)cli_long("--seed", optarg, 0, 4294967295L); break;
-		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
-		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
-		case O_EVERY: o.a.every = cli_double_range("--every", optarg, 1e-6, 1e9); break;
-		case O_LOG: o.log = optarg; break;
-		case O_LOGEVERY: o.a.log_every = cli_double_range("--log-every", optarg, 1e-6, 1e9); break;
-		case O_DT: o.a.d.dt_max = cli_double_range("--dt", optarg, 1e-9, 1); break;
-		case O_DR: o.a.d.dr_max = cli_double_range("--dr", optarg, 1e-9, 0.1); break;
-		case O_OUDT: o.a.d.ou_dt = cli_double_range("--ou-dt", optarg, 0, 1e9); break;
-		case O_SETTLE: o.a.d.settle = cli_double_range("--settle", optarg, 0, 1e6); break;
-		case O_SETTLET1: o.a.d.settle_t1 = 1; break;
-		case O_IMPLICIT: o.a.d.implicit = cli_double_range("--implicit", optarg, 0, 1); break;
-		case O_QUENCH:
-			if (strcmp(optarg, "adaptive") == 0)
-				o.a.d.quench = DYN_QUENCH_ADAPTIVE;
-			else if (strcmp(optarg, "euler") == 0)
-				o.a.d.quench = DYN_QUENCH_EULER;
-			else
-				cli_usage_error("--quench: expected euler or adaptive, got '%s'", optarg);
-			break;
-		case O_PAPER: anneal_opts_paper(&o.a); break;
-		case O_T1AGAIN: o.a.d.t1_again = cli_double_range("--t1-again", optarg, 0, 0.999); break;
-		case O_T1: o.a.d.t1_length = cli_double_range("--t1", optarg, 0, 0.5); break;
-		case O_T1NEW: o.a.d.t1_new = cli_double_range("--t1-new", optarg, 1e-9, 0.5); break;
-		case 'T': o.a.d.threads = cli_threads(optarg); break;
-		case 'h': cli_help(help);
-		case O_VERSION: cli_version();
-		default: cli_bad_option(argv, c);
-		}
-	}
-	if (o.has_sigma && o.a.nstage > 0)
+	dyn_opts *d = &o.a.d;
+	cli_optdef t[] = {
+		{ "sigma", CLI_DOUBLE, &o.sigma, .lo = 0, .hi = 100, .group = 1 },
+		{ "stage", CLI_PARSE, &o.a, .parse = parse_stage },
+		{ "relax", CLI_DOUBLE, &o.a.relax, .lo = 0, .hi = 1e9 },
+		{ "tau", CLI_DOUBLE, &d->tau, .lo = 1e-9, .hi = 1e9 },
+		{ "seed", CLI_ULONG, &o.a.seed, .lo = 0, .hi = 4294967295.0 },
+		{ "p0", CLI_MODEL, .to = &o.mo },
+		{ "ka", CLI_MODEL, .to = &o.mo },
+		{ "every", CLI_DOUBLE, &o.a.every, .lo = 1e-6, .hi = 1e9 },
+		{ "log", CLI_STRING, .to = &o.log },
+		{ "log-every", CLI_DOUBLE, &o.a.log_every, .lo = 1e-6, .hi = 1e9 },
+		{ "dt", CLI_DOUBLE, &d->dt_max, .lo = 1e-9, .hi = 1 },
+		{ "dr", CLI_DOUBLE, &d->dr_max, .lo = 1e-9, .hi = 0.1 },
+		{ "ou-dt", CLI_DOUBLE, &d->ou_dt, .lo = 0, .hi = 1e9 },
+		{ "settle", CLI_DOUBLE, &d->settle, .lo = 0, .hi = 1e6 },
+		{ "settle-t1", CLI_FLAG, &d->settle_t1, .val = 1 },
+		{ "implicit", CLI_DOUBLE, &d->implicit, .lo = 0, .hi = 1 },
+		{ "quench", CLI_PARSE, &d->quench, .parse = quench,
+		  .msg = "--quench: expected euler or adaptive, got '%s'" },
+		{ "paper", CLI_CALL, &o.a, .parse = paper },
+		{ "t1-again", CLI_DOUBLE, &d->t1_again, .lo = 0, .hi = 0.999 },
+		{ "t1", CLI_DOUBLE, &d->t1_length, .lo = 0, .hi = 0.5 },
+		{ "t1-new", CLI_DOUBLE, &d->t1_new, .lo = 1e-9, .hi = 0.5 },
+		{ "threads", CLI_INT, &d->threads, .lo = 1, .hi = ENERGY_MAXTHREADS },
+		{ 0 }
+	};
+	int first = cli_parse(argc, argv, t, help);
+	if (cli_opt_first(t, 1) && o.a.nstage > 0)
 		cli_usage_error("--sigma sets the quench of the default protocol; with --stage give every stage");
 	if (o.a.nstage == 0)
 		anneal_default_stages(&o.a, o.sigma);
-	if (argc - optind > 1)
-		cli_usage_error("at most one input file");
-	o.input = optind < argc ? argv[optind] : NULL;
+	o.input = cli_opt_input(argc, argv, first);
 	o.a.name = cli_input_name(o.input);
 	o.a.d.threads = cli_threads_apply(o.a.d.threads, 1);
 	o.a.d.thread_min = cli_thread_min();
@@ -182,7 +148,6 @@ static struct opts parse(int argc, char **argv)
 
 /* The outputs of the run. */
 struct out {
-	const struct opts *o;
 	FILE *log;
 	int log_errno;        /* the log could not be written: stop */
 	time_t last_progress;
@@ -239,7 +204,7 @@ int main(int argc, char **argv)
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	cli_history(m);
 
-	struct out u = { .o = &o };
+	struct out u = { 0 };
 	int tty = isatty(2);
 	/* the log of a continued run goes on where the stopped run's ended */
 	cli_runtable log;
@@ -259,14 +224,8 @@ int main(int argc, char **argv)
 		fputc('\n', stderr);
 	}
 	int done = r.why == ANNEAL_END_DONE;
-	char why[300] = "";
-	if (r.why == ANNEAL_END_FAILED)
-		snprintf(why, sizeof why, "stopped: %s", err.msg);
-	else if (r.why == ANNEAL_END_IO)
-		snprintf(why, sizeof why, "stopped: %s: write error: %s", o.log, strerror(u.log_errno));
-	else if (r.why == ANNEAL_END_STOP)
-		snprintf(why, sizeof why, "interrupted by %s at step %ld, t = %.10g", cli_stop_name(),
-		         r.c.nstep, r.c.t);
+	char why[300];
+	anneal_why(why, sizeof why, &r, &err, o.log, u.log_errno, cli_stop_name());
 	char note[1024];
 	anneal_note(note, sizeof note, &o.a, &r, done ? NULL : why);
 	cli_history_note(m, note);

@@ -1,5 +1,4 @@
 /* tis-fit - polynomial coefficients of force-extension curves. */
-#include <getopt.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,85 +45,62 @@ static const char help[] =
 
 struct opts {
 	int degree;
-	double window, threshold, max_fres;
-	fit_branch branch;
+	double window, threshold;
+	fit_select sel;
 	int cusps, summary;
-	unsigned status;   /* bit s: fit points of fl_status s */
 	const char *input;
 };
 
-/* --status LIST as a set of fl_status bits. */
-static unsigned parse_status(const char *arg)
+/* --status LIST as a set of fl_status bits; nonzero if empty. */
+static int parse_status(void *to, const char *arg)
 {
-	if (strcmp(arg, "all") == 0)
-		return (1u << FL_NSTATUS) - 1;
-	unsigned set = 0;
+	unsigned *set = to;
 	char buf[128];
 	snprintf(buf, sizeof buf, "%s", arg);
-	for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+	*set = strcmp(arg, "all") == 0 ? (1u << FL_NSTATUS) - 1 : 0;
+	for (char *save = NULL, *t = *set ? NULL : strtok_r(buf, ",", &save); t;
+	     t = strtok_r(NULL, ",", &save)) {
 		int st = fl_status_parse(t);
 		if (st < 0)
 			cli_usage_error("--status: unknown status '%s' (ok, plastic, not-converged, "
 			                "no-minimum, all)", t);
-		set |= 1u << st;
+		*set |= 1u << st;
 	}
-	if (set == 0)
-		cli_usage_error("--status: no status given");
-	return set;
+	return *set == 0;
+}
+
+static int parse_branch(void *to, const char *arg)
+{
+	int b = strcmp(arg, "out") == 0 ? FIT_BRANCH_OUT : strcmp(arg, "back") == 0 ?
+	        FIT_BRANCH_BACK : strcmp(arg, "all") == 0 ? FIT_BRANCH_ALL : -1;
+	if (b >= 0)
+		*(fit_branch *)to = (fit_branch)b;
+	return b < 0;
 }
 
 static struct opts parse(int argc, char **argv)
 {
-	enum { O_DEG = 256, O_WIN, O_BRANCH, O_CUSPS, O_THR, O_SUMMARY, O_VERSION,
-	       O_MAXFRES, O_STATUS };
-	static const struct option lo[] = {
-		{ "degree", required_argument, NULL, O_DEG },
-		{ "window", required_argument, NULL, O_WIN },
-		{ "branch", required_argument, NULL, O_BRANCH },
-		{ "cusps", no_argument, NULL, O_CUSPS },
-		{ "threshold", required_argument, NULL, O_THR },
-		{ "summary", no_argument, NULL, O_SUMMARY },
-		{ "max-fres", required_argument, NULL, O_MAXFRES },
-		{ "status", required_argument, NULL, O_STATUS },
-		{ "help", no_argument, NULL, 'h' },
-		{ "version", no_argument, NULL, O_VERSION },
+	struct opts o = { .degree = 5, .window = 0.1, .threshold = 1e-3,
+	                  .sel = { FIT_BRANCH_OUT, 1u << FL_OK, INFINITY } };
+	cli_optdef d[] = {
+		{ "degree", CLI_INT, &o.degree, .lo = 1, .hi = FIT_MAXDEG },
+		{ "window", CLI_DOUBLE, &o.window, .lo = 0, .hi = 1e6 },
+		{ "branch", CLI_PARSE, &o.sel.branch, .parse = parse_branch,
+		  .msg = "--branch: expected out, back or all, got '%s'" },
+		{ "cusps", CLI_FLAG, &o.cusps, .val = 1 },
+		{ "threshold", CLI_DOUBLE, &o.threshold, .lo = 0, .hi = 1e6, .group = 1 },
+		{ "summary", CLI_FLAG, &o.summary, .val = 1 },
+		{ "max-fres", CLI_DOUBLE, &o.sel.max_fres, .lo = 0, .hi = 1e6 },
+		{ "status", CLI_PARSE, &o.sel.status, .parse = parse_status,
+		  .msg = "--status: no status given" },
 		{ 0 }
 	};
-	struct opts o = { .degree = 5, .window = 0.1, .threshold = 1e-3, .branch = FIT_BRANCH_OUT,
-	                 .max_fres = INFINITY, .status = 1u << FL_OK };
-	int has_thr = 0;
-	int c;
-	while ((c = getopt_long(argc, argv, ":h", lo, NULL)) != -1) {
-		switch (c) {
-		case O_DEG: o.degree = (int)cli_long("--degree", optarg, 1, FIT_MAXDEG); break;
-		case O_WIN: o.window = cli_double_range("--window", optarg, 0, 1e6); break;
-		case O_BRANCH:
-			if (strcmp(optarg, "out") == 0)
-				o.branch = FIT_BRANCH_OUT;
-			else if (strcmp(optarg, "back") == 0)
-				o.branch = FIT_BRANCH_BACK;
-			else if (strcmp(optarg, "all") == 0)
-				o.branch = FIT_BRANCH_ALL;
-			else
-				cli_usage_error("--branch: expected out, back or all, got '%s'", optarg);
-			break;
-		case O_CUSPS: o.cusps = 1; break;
-		case O_THR: o.threshold = cli_double_range("--threshold", optarg, 0, 1e6); has_thr = 1; break;
-		case O_MAXFRES: o.max_fres = cli_double_range("--max-fres", optarg, 0, 1e6); break;
-		case O_STATUS: o.status = parse_status(optarg); break;
-		case O_SUMMARY: o.summary = 1; break;
-		case 'h': cli_help(help);
-		case O_VERSION: cli_version();
-		default: cli_bad_option(argv, c);
-		}
-	}
+	int first = cli_parse(argc, argv, d, help);
 	if (o.cusps && o.summary)
 		cli_usage_error("--cusps and --summary exclude each other");
-	if (has_thr && !o.cusps)
+	if (cli_opt_first(d, 1) && !o.cusps)
 		cli_usage_error("--threshold works only with --cusps");
-	if (argc - optind > 1)
-		cli_usage_error("at most one input file");
-	o.input = optind < argc ? argv[optind] : NULL;
+	o.input = cli_opt_input(argc, argv, first);
 	return o;
 }
 
@@ -180,7 +156,6 @@ static void finish_curve(const struct opts *o, fit_curve *c, fit_groups *groups)
 		       c->p0, c->j, c->a, c->b, c->l0, r.n, r.a[0], fit_coef(&r, 1), fit_coef_se(&r, 1),
 		       fit_coef(&r, 2), fit_coef_se(&r, 2), fit_coef(&r, 3), fit_coef_se(&r, 3), r.rms,
 		       c->fres_max);
-		/* the rest of the polynomial, so that the curve can be rebuilt */
 		for (int k = 4; k <= o->degree; k++)
 			printf("\t%.10g\t%.3g", fit_coef(&r, k), fit_coef_se(&r, k));
 		putchar('\n');
@@ -202,11 +177,8 @@ int main(int argc, char **argv)
 	if (rd == NULL || prov == NULL)
 		cli_die(EXIT_INPUT, "out of memory");
 	char cols[512];
-	snprintf(cols, sizeof cols, "%s", o.cusps ? "p0\tj\ta\tb\tl0\tfrom\tto\tnpts\thas_l0"
-		: o.summary ? "p0\tn\ta1_q1\ta1_med\ta1_q3\ta3_q1\ta3_med\ta3_q3"
-		: "p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\tfres_max");
-	for (int k = 4; k <= o.degree && !o.cusps && !o.summary; k++)
-		snprintf(cols + strlen(cols), sizeof cols - strlen(cols), "\ta%d\ta%d_err", k, k);
+	fit_table_cols(cols, sizeof cols, o.cusps ? FIT_OUT_CUSPS : o.summary ? FIT_OUT_SUMMARY :
+	               FIT_OUT_COEFS, o.degree);
 	fit_cols col;
 	long rows = 0;
 	int interrupted = 0;
@@ -233,7 +205,7 @@ int main(int argc, char **argv)
 			continue;
 		}
 		/* an option that would do nothing is refused, not ignored */
-		if (col.fres < 0 && isfinite(o.max_fres))
+		if (col.fres < 0 && isfinite(o.sel.max_fres))
 			cli_die(EXIT_INPUT, "%s:%ld: --max-fres: the table has no fres column",
 			        input_name, table_line(rd));
 		fit_point pt;
@@ -248,8 +220,7 @@ int main(int argc, char **argv)
 		double fres = NAN;
 		if (col.fres >= 0 && table_number(rd, col.fres, &fres, &err) != MESH_OK)
 			die_at(MESH_EINVAL, &err);
-		if (!fit_branch_uses(o.branch, pt.dir) || fres > o.max_fres ||
-		    !(o.status & (1u << pt.status)))
+		if (!fit_select_uses(&o.sel, &pt, fres))
 			continue;
 		if (fit_curve_add(&curve, pt.l, pt.f, fres, o.cusps || fit_in_window(pt.l - pt.l0, o.window)))
 			cli_die(EXIT_INPUT, "out of memory");

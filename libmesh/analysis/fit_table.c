@@ -4,6 +4,7 @@
 #include "forcelen.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -70,6 +71,12 @@ int fit_point_read(const table_reader *r, const fit_cols *c, fit_point *pt, mesh
 int fit_branch_uses(fit_branch b, fit_dir d)
 {
 	return b == FIT_BRANCH_ALL || d == FIT_REST || (b == FIT_BRANCH_OUT ? d == FIT_OUT : d == FIT_BACK);
+}
+
+int fit_select_uses(const fit_select *s, const fit_point *pt, double fres)
+{
+	return fit_branch_uses(s->branch, pt->dir) && !(fres > s->max_fres) &&
+	       (s->status & (1u << pt->status));
 }
 
 int fit_curve_has(const fit_curve *c, const fit_point *pt)
@@ -143,6 +150,15 @@ double fit_coef(const fit_result *r, int k)
 double fit_coef_se(const fit_result *r, int k)
 {
 	return r->degree >= k ? r->se[k] : NAN;
+}
+
+void fit_table_cols(char *buf, size_t n, fit_output out, int degree)
+{
+	snprintf(buf, n, "%s", out == FIT_OUT_CUSPS ? "p0\tj\ta\tb\tl0\tfrom\tto\tnpts\thas_l0"
+		: out == FIT_OUT_SUMMARY ? "p0\tn\ta1_q1\ta1_med\ta1_q3\ta3_q1\ta3_med\ta3_q3"
+		: "p0\tj\ta\tb\tl0\tn\ta0\ta1\ta1_err\ta2\ta2_err\ta3\ta3_err\trms\tfres_max");
+	for (int k = 4; k <= degree && out == FIT_OUT_COEFS; k++)
+		snprintf(buf + strlen(buf), n - strlen(buf), "\ta%d\ta%d_err", k, k);
 }
 
 int fit_curve_cusps(const fit_curve *c, double thr, fit_cusp **out)

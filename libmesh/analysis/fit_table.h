@@ -46,6 +46,17 @@ int fit_point_read(const table_reader *r, const fit_cols *c, fit_point *pt, mesh
 /* Whether a fit on branch b uses a point of direction d. */
 int fit_branch_uses(fit_branch b, fit_dir d);
 
+/* The points a fit uses: those of its branch whose status is in the set
+ * (bit s: fl_status s) and whose residual force is at most max_fres. */
+typedef struct {
+	fit_branch branch;
+	unsigned status;
+	double max_fres;
+} fit_select;
+/* Whether selection s uses point pt of residual force fres (NaN: the
+ * table has none, which no max_fres leaves out). */
+int fit_select_uses(const fit_select *s, const fit_point *pt, double fres);
+
 /* One junction's curve: the points of consecutive rows with the same p0,
  * j and l0. */
 typedef struct {
@@ -73,6 +84,16 @@ void fit_curve_free(fit_curve *c);
  * (not fitted, which is not 0). */
 double fit_coef(const fit_result *r, int k);
 double fit_coef_se(const fit_result *r, int k);
+
+/* What tis-fit writes per curve: a fit's coefficients, the cusps, or
+ * (per p0) the summary. */
+typedef enum { FIT_OUT_COEFS, FIT_OUT_CUSPS, FIT_OUT_SUMMARY } fit_output;
+/* The header of that table, its column names tab-separated, into buf (n
+ * bytes; 512 hold every degree): for the coefficients p0 j a b l0 n a0
+ * a1 a1_err a2 a2_err a3 a3_err rms fres_max, then a4 a4_err .. aN aN_err
+ * for a degree N above 3 (the rest of the polynomial, so that the curve
+ * can be rebuilt). */
+void fit_table_cols(char *buf, size_t n, fit_output out, int degree);
 
 /* The cusps of a curve (fit_cusps) into *out (malloc'd, NULL for none):
  * how many, or -1 if out of memory. */

@@ -65,7 +65,7 @@ void anneal_protocol(const anneal_opts *o, const model *p, char *buf, size_t n)
 	mesh_run_key_num(buf, n, "t1_new", o->d.t1_new);
 	mesh_run_key_num(buf, n, "implicit", o->d.implicit);
 	mesh_run_key_num(buf, n, "t1_again", o->d.t1_again);
-	mesh_run_key(buf, n, "quench", o->d.quench == DYN_QUENCH_ADAPTIVE ? "adaptive" : "euler");
+	mesh_run_key(buf, n, "quench", dyn_quench_name(o->d.quench));
 	/* only when on: the protocols of meshes made before it stay valid */
 	if (o->d.settle_t1)
 		mesh_run_key(buf, n, "settle_t1", "1");
@@ -344,4 +344,17 @@ int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *
 		ADD("; %s", why);
 #undef ADD
 	return len;
+}
+
+int anneal_why(char *buf, size_t n, const anneal_result *r, const mesh_error *err,
+               const char *log, int log_errno, const char *signal)
+{
+	if (r->why == ANNEAL_END_FAILED)
+		return snprintf(buf, n, "stopped: %s", err->msg);
+	if (r->why == ANNEAL_END_IO)
+		return snprintf(buf, n, "stopped: %s: write error: %s", log, strerror(log_errno));
+	if (r->why == ANNEAL_END_STOP)
+		return snprintf(buf, n, "interrupted by %s at step %ld, t = %.10g", signal, r->c.nstep,
+		                r->c.t);
+	return snprintf(buf, n, "%s", "");
 }

@@ -127,4 +127,13 @@ int anneal_run(mesh *m, const model *p, const anneal_opts *o, int continued,
 int anneal_note(char *buf, size_t n, const anneal_opts *o, const anneal_result *r,
                 const char *why);
 
+/* Why a run stopped early, for its history note and the message: "stopped:
+ * " and err's message (ANNEAL_END_FAILED), "stopped: LOG: write error: "
+ * and strerror(log_errno) (ANNEAL_END_IO: the log and its error), or
+ * "interrupted by SIGNAL at step N, t = T" (ANNEAL_END_STOP); empty for a
+ * run that did all its protocol.  Returns the length snprintf would have
+ * written. */
+int anneal_why(char *buf, size_t n, const anneal_result *r, const mesh_error *err,
+               const char *log, int log_errno, const char *signal);
+
 #endif

@@ -26,6 +26,21 @@ void dyn_opts_init(dyn_opts *o)
 			 .quench = DYN_QUENCH_EULER };
 }
 
+const char *dyn_quench_name(int quench)
+{
+	return quench == DYN_QUENCH_ADAPTIVE ? "adaptive" : "euler";
+}
+
+int dyn_quench_parse(const char *name, int *quench)
+{
+	for (int q = DYN_QUENCH_EULER; q <= DYN_QUENCH_ADAPTIVE; q++)
+		if (strcmp(name, dyn_quench_name(q)) == 0) {
+			*quench = q;
+			return 1;
+		}
+	return 0;
+}
+
 static int check_opts(const dyn_opts *o, mesh_error *err)
 {
 	if (!(o->dt_max > 0 && isfinite(o->dt_max)) || !(o->dr_max > 0 && isfinite(o->dr_max)))

@@ -106,6 +106,10 @@ typedef enum {
 } dyn_mode;
 
 enum { DYN_QUENCH_EULER, DYN_QUENCH_ADAPTIVE };
+/* Name <-> quench scheme ("euler", "adaptive"); parse returns 0 if
+ * unknown. */
+const char *dyn_quench_name(int quench);
+int dyn_quench_parse(const char *name, int *quench);
 
 /* The adaptive quench's local error when dyn_opts.implicit is 0
  * (bench/RESULTS.md), and its switch: implicit steps once they may be
