@@ -1,6 +1,6 @@
 #!/bin/sh
 # Two builds of the library, junction by junction: every NPARTS-th
-# junction of disordered-1 relaxed at each p0 (tis-relax -q --p0 P), swept
+# junction of disordered-SAMPLE (1) relaxed at each p0 (tis-relax -q --p0 P), swept
 # by bench/forcelen-junctions.c (tis-forcelen's defaults, one thread)
 # linked against this tree's libmesh.a and OLD's (another checkout, built),
 # the two in turn at each p0.  Per p0 and build: CPU seconds per junction
@@ -8,6 +8,7 @@
 # points both call ok the largest |f difference|.
 #
 #   OLD=/path/to/other/checkout P0="3.86 3.90" NPARTS=8 sh bench/forcelen-pairs.sh
+#   OLD=... SAMPLE=3 P0=3.83 NPARTS=48 sh bench/forcelen-pairs.sh
 #
 # Without OLD it says so and does nothing (make bench runs every script).
 set -eu
@@ -15,6 +16,8 @@ top=$(cd "$(dirname "$0")/.." && pwd)
 [ -n "${OLD:-}" ] || { echo "forcelen-pairs.sh: set OLD to another built checkout"; exit 0; }
 P0=${P0:-"3.86 3.90 3.95"}
 NPARTS=${NPARTS:-8}
+SAMPLE=${SAMPLE:-1}
+export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 T=$(mktemp -d "${TMPDIR:-/tmp}/forcelen-pairs.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . "$top/bench/lib.sh"
@@ -26,9 +29,9 @@ stat() {
 }
 printf 'p0\tjunctions\told_mean_s\told_median_s\told_p90_s\told_nomin\tnew_mean_s\tnew_median_s\tnew_p90_s\tnew_nomin\tmax_df_common_ok\n'
 for p in $P0; do
-	"$top/bin/tis-relax" -q --p0 "$p" "$top/samples/disordered-1.mesh" >"$T/m.mesh"
-	OMP_NUM_THREADS=1 "$T/old" "$T/m.mesh" 0 "$NPARTS" "$T/old.pts" >"$T/old.tsv"
-	OMP_NUM_THREADS=1 "$T/new" "$T/m.mesh" 0 "$NPARTS" "$T/new.pts" >"$T/new.tsv"
+	"$top/bin/tis-relax" -q --p0 "$p" "$top/samples/disordered-$SAMPLE.mesh" >"$T/m.mesh"
+	"$T/old" "$T/m.mesh" 0 "$NPARTS" "$T/old.pts" >"$T/old.tsv"
+	"$T/new" "$T/m.mesh" 0 "$NPARTS" "$T/new.pts" >"$T/new.tsv"
 	df=$(awk 'FNR == 1 { k++ } { key = $1 " " $2 " " $3 " " (n[k, $1 " " $2 " " $3]++) }
 		k == 1 && ($6 == 0 || $6 == 3) { f[key] = $4 }
 		k == 2 && ($6 == 0 || $6 == 3) && (key in f) { d = $4 - f[key]; if (d < 0) d = -d; if (d > m) m = d }
