@@ -73,6 +73,7 @@ struct relax_work {
 	} kept[RELAX_NKEPT];
 	int nkept;
 	int nfresh;           /* points still to start with a fresh factor */
+	int pcnext;           /* build a factor at the next point's start */
 	double pcl;           /* held length where the factor held was built */
 	int pck;              /* its entry in kept, or -1 */
 	/* Held: the last solve, input and output (n each): Newton-CG asks
@@ -1156,6 +1157,7 @@ int relax_hold(relax_work *w, const mesh *m, const model *p, int j, const min_op
 	w->shift = 0;
 	w->nkept = 0;
 	w->pck = -1;
+	w->pcnext = 0;
 	w->hvalid = 0;
 	w->evalid = 0;
 	w->gn.ok = 0;
@@ -1190,8 +1192,15 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 	w->hvalid = 0;
 	w->evalid = 0;  /* the objective depends on w->l */
 	min_report rep;
-	int stale = w->have;
 	w->x[n - 1] *= w->l;
+	/* the factor the last point asked for, at this point's start (below) */
+	long npc0 = 0;
+	if (w->pcnext && mo.precond) {
+		pcsetup(w->x, w);
+		npc0 = 1;
+	}
+	w->pcnext = 0;
+	int stale = w->have && !npc0;
 	int st = min_run(n, w->x, objective, w, &mo, &rep);
 	if (st == MESH_ENOMEM || st == MESH_EDOM)
 		return st;
@@ -1207,15 +1216,21 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 	pt->W = W;
 	pt->fres = fres;
 	pt->neval = rep.neval + rep.nhessvec + rep.ngnstep + 1;
-	pt->npc = rep.npcsetup + rep.ngnstep;
+	pt->npc = rep.npcsetup + rep.ngnstep + npc0;
 	pt->status = fres <= o->ftol ? RELAX_OK : w->jzero >= 0 ? RELAX_NOMIN : RELAX_NOCONV;
 	pt->jzero = pt->status == RELAX_NOMIN ? w->jzero : -1;
 	/* A point that converged in one Newton step ends before min_run's
 	 * own rebuild (at its next step) however long CG took, and the
-	 * factor would only age: rebuild it here, at this solution, for the
-	 * next point when CG took more than pcmaxit products (bench/
-	 * RESULTS.md: with the quartic predictor most points take a single
-	 * step). */
+	 * factor would only age: when CG took more than pcmaxit products the
+	 * next point builds one at its start (bench/RESULTS.md: with the
+	 * quartic predictor most points take a single step).  At the start,
+	 * not at this solution: the predicted start is nearer the next
+	 * solution, so near a rigidity transition, where the Hessian changes
+	 * fastest along a sweep, the factor serves more points
+	 * (disordered-1 at p0 3.83, junction 0: 147 factorizations in 241
+	 * points instead of 236).  Newton-CG's sweeps only: after the
+	 * Gauss-Newton stage of a floppy tissue it made the median junction
+	 * slower (bench/RESULTS.md). */
 	if (mo.algo == MIN_LM) {
 		/* a point that started with the factor held and had to build
 		 * one: the next RELAX_NFRESH start with a fresh one (in a floppy
@@ -1229,8 +1244,12 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 		}
 	}
 	if (mo.precond && mo.algo != MIN_LM && pt->status == RELAX_OK && rep.nhessvec > o->pcmaxit) {
-		pcsetup(w->x, w);
-		pt->npc++;
+		if (mo.algo == MIN_NEWTON || mo.algo == MIN_AUTO) {
+			w->pcnext = 1;
+		} else {
+			pcsetup(w->x, w);
+			pt->npc++;
+		}
 	}
 	w->x[n - 1] = t;
 	return MESH_OK;
