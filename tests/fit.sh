@@ -6,7 +6,7 @@
 # form), Gaussian noise of known variance (errors of the right size),
 # fres_max over the points fitted only, and --summary's quartiles.
 . "$(dirname "$0")/lib.sh"
-plan 26
+plan 28
 
 # table COEFS [NOISE]: the table of one junction per COEFS ("p0 j a b l0 c0
 # c1 c2 c3 c4 c5"), the points l0 + h k, |k| <= K (env H, K), rest at k = 0
@@ -129,4 +129,11 @@ ok "the exact quintic's a4 and a5: 5 and -7" awk -F'\t' '{ d4 = $16 - 5; d5 = $1
 tis-fit --degree 2 "$T/h.tsv" | rows >"$T/h2.row"
 ok "--degree 2: a3 and a3_err nan, no columns past fres_max" \
 	sh -c "[ \"\$(cut -f12,13 '$T/h2.row')\" = \"\$(printf 'nan\tnan')\" ] && [ \$(awk -F'\t' '{ print NF }' '$T/h2.row') -eq 15 ]"
+# a status list of any length is read whole (it was cut at 127 bytes
+# and a name split there called unknown)
+long=$(printf 'ok,%.0s' $(seq 60))
+ok "--status: a 180-byte list is read whole, as the same set written short" \
+	test "$(tis-fit --status "${long}plastic" "$T/q.tsv" | rows)" = "$(tis-fit --status ok,plastic "$T/q.tsv" | rows)"
+ok "--status: an unknown name at the end of a long list is named whole, exit 2" \
+	sh -c "tis-fit --status '${long}bogus' '$T/q.tsv' >/dev/null 2>'$T/st.err'; [ \$? -eq 2 ] && grep -q \"unknown status 'bogus'\" '$T/st.err'"
 done_testing

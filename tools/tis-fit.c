@@ -54,19 +54,12 @@ struct opts {
 /* --status LIST as a set of fl_status bits; nonzero if empty. */
 static int parse_status(void *to, const char *arg)
 {
-	unsigned *set = to;
-	char buf[128];
-	snprintf(buf, sizeof buf, "%s", arg);
-	*set = strcmp(arg, "all") == 0 ? (1u << FL_NSTATUS) - 1 : 0;
-	for (char *save = NULL, *t = *set ? NULL : strtok_r(buf, ",", &save); t;
-	     t = strtok_r(NULL, ",", &save)) {
-		int st = fl_status_parse(t);
-		if (st < 0)
-			cli_usage_error("--status: unknown status '%s' (ok, plastic, not-converged, "
-			                "no-minimum, all)", t);
-		*set |= 1u << st;
-	}
-	return *set == 0;
+	const char *bad;
+	int nbad;
+	if (fl_status_parse_list(arg, to, &bad, &nbad) != MESH_OK)
+		cli_usage_error("--status: unknown status '%.*s' (ok, plastic, not-converged, "
+		                "no-minimum, all)", nbad, bad);
+	return *(unsigned *)to == 0;
 }
 
 static int parse_branch(void *to, const char *arg)

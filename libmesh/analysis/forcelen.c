@@ -38,6 +38,28 @@ int fl_status_parse(const char *name)
 	return -1;
 }
 
+int fl_status_parse_list(const char *list, unsigned *set, const char **bad, int *nbad)
+{
+	*set = strcmp(list, "all") == 0 ? (1u << FL_NSTATUS) - 1 : 0;
+	for (const char *t = *set ? "" : list; *t; t += *t == ',') {
+		size_t k = strcspn(t, ",");
+		if (k == 0)
+			continue;
+		int st = -1;
+		for (int s = 0; s < FL_NSTATUS && st < 0; s++)
+			if (strlen(fl_status_name(s)) == k && strncmp(t, fl_status_name(s), k) == 0)
+				st = s;
+		if (st < 0) {
+			*bad = t;
+			*nbad = (int)k;
+			return MESH_EDOM;
+		}
+		*set |= 1u << st;
+		t += k;
+	}
+	return MESH_OK;
+}
+
 void fl_opts_init(fl_opts *o)
 {
 	o->step = 0.005;

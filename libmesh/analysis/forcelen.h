@@ -58,6 +58,11 @@ enum fl_status { FL_OK, FL_NOMIN, FL_NOCONV, FL_PLASTIC, FL_NSTATUS };
 /* Name of a status, and back (-1 for an unknown name). */
 const char *fl_status_name(int st);
 int fl_status_parse(const char *name);
+/* A comma-separated list of status names, or "all", as a set (bit st:
+ * status st) into *set, read in place whatever its length (empty names
+ * are skipped).  MESH_OK, or MESH_EDOM at the first unknown name: *bad
+ * points at it in list and *nbad is its length. */
+int fl_status_parse_list(const char *list, unsigned *set, const char **bad, int *nbad);
 
 #define FL_MAXPREDICT 4
 
