@@ -30,12 +30,18 @@ const char *fl_status_name(int st)
 	return "?";
 }
 
-int fl_status_parse(const char *name)
+/* The status named by the k characters at name, or -1. */
+static int status_parse_n(const char *name, size_t k)
 {
 	for (int st = 0; st < FL_NSTATUS; st++)
-		if (strcmp(name, fl_status_name(st)) == 0)
+		if (strlen(fl_status_name(st)) == k && strncmp(name, fl_status_name(st), k) == 0)
 			return st;
 	return -1;
+}
+
+int fl_status_parse(const char *name)
+{
+	return status_parse_n(name, strlen(name));
 }
 
 int fl_status_parse_list(const char *list, unsigned *set, const char **bad, int *nbad)
@@ -45,10 +51,7 @@ int fl_status_parse_list(const char *list, unsigned *set, const char **bad, int 
 		size_t k = strcspn(t, ",");
 		if (k == 0)
 			continue;
-		int st = -1;
-		for (int s = 0; s < FL_NSTATUS && st < 0; s++)
-			if (strlen(fl_status_name(s)) == k && strncmp(t, fl_status_name(s), k) == 0)
-				st = s;
+		int st = status_parse_n(t, k);
 		if (st < 0) {
 			*bad = t;
 			*nbad = (int)k;
