@@ -5,18 +5,12 @@
 #include "hessian.h"
 #include "lanczos.h"
 #include "ldl.h"
+#include "negcurv.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Inverse iteration: at most this many solves, and done when the Rayleigh
- * quotient settles to this relative change. */
-#define INV_MAXIT 60
-#define INV_RTOL 1e-6
-/* Bisection for the shift: until the bracket's ends are within this
- * factor of each other. */
-#define BIS_RATIO 1.1
 /* The shortest trial step, in units of SADDLE_STEP. */
 #define STEP_MIN 1e-6
 
@@ -118,54 +112,15 @@ int saddle_count(const mesh *m, const model *p, double zerotol, double max_bytes
 	return st;
 }
 
-/* The eigenvalues below sigma (factor of H - sigma I), or -1 if the
- * factorization failed. */
-static int below(hwork *w, double sigma)
-{
-	if (ldl_factor(w->f, w->hs->h, -sigma) != MESH_OK)
-		return -1;
-	return ldl_nneg(w->f);
-}
-
 /* A unit direction v of negative curvature of the Hessian in w (which
  * has w->c.nneg > 0), and its curvature v^T H v into *curv; hv scratch.
- * MESH_OK, MESH_ENOCONV (no negative curvature found). */
+ * Nothing lies below -max |lambda|, something below Lanczos's smallest
+ * Ritz value and below -tol.  MESH_OK, MESH_ENOCONV (no negative
+ * curvature found). */
 static int direction(hwork *w, double *v, double *hv, double *curv)
 {
-	const spsym *h = w->hs->h;
-	int n = h->n;
-	/* a: nothing below it; b: something below it */
-	double a = -w->c.lmax * (1 + 1e-8), b = fmin(w->c.lo, -w->c.tol);
-	for (int it = 0; it < 200 && a / b > BIS_RATIO; it++) {
-		double mid = -sqrt(a * b);
-		if (below(w, mid) == 0)
-			a = mid;
-		else
-			b = mid;
-	}
-	/* H - a I is positive definite, its smallest eigenvalues those of H
-	 * nearest a: the iteration brings them out */
-	if (ldl_factor(w->f, h, -a) != MESH_OK)
-		return MESH_ENOCONV;
-	lanczos_start(v, n);
-	double rq = INFINITY;
-	for (int it = 0; it < INV_MAXIT; it++) {
-		if (ldl_solve(w->f, v, v) != MESH_OK)
-			return MESH_ENOCONV;
-		double nv = sqrt(sparse_dot(v, v, n));
-		if (!(nv > 0) || !isfinite(nv))
-			return MESH_ENOCONV;
-		for (int i = 0; i < n; i++)
-			v[i] /= nv;
-		spsym_mulvec(h, v, hv);
-		double r = sparse_dot(v, hv, n);
-		int done = it >= 2 && r < -w->c.tol && fabs(r - rq) <= INV_RTOL * fabs(r);
-		rq = r;
-		if (done)
-			break;
-	}
-	*curv = rq;
-	return rq < -w->c.tol ? MESH_OK : MESH_ENOCONV;
+	return negcurv_direction(w->f, w->hs->h, -fmin(w->c.lo, -w->c.tol), w->c.lmax * (1 + 1e-8),
+	                         w->c.tol, v, hv, curv, NULL);
 }
 
 /* m->r moved along v (curvature curv) by the largest step, of largest
