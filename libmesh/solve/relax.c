@@ -4,7 +4,9 @@
 #include "relax.h"
 #include "geom.h"
 #include "hessian.h"
+#include "ldl.h"
 #include "minimize.h"
+#include "negcurv.h"
 #include "order.h"
 #include "sparse.h"
 
@@ -551,32 +553,40 @@ static void held_switch(relax_work *w)
 	w->pck = best;
 }
 
+/* Held: the Hessian in the variables x into hxs, H_x = the terms listed
+ * by held_pattern plus the curvature -grad_b W . e / l on (s, s), as in
+ * hessvec. */
+static void held_hessian(relax_work *w, const double *x)
+{
+	int n = w->n;
+	double t = x[n - 1] / w->l, ct = cos(t), st = sin(t);
+	x_to_r(w, x, t, w->pr);
+	mesh_energy(w->m, w->pr, w->p, w->pg, w->ew);
+	mesh_hessian_sparse(w->m, w->pr, w->p, w->hs);
+	const double *hv = w->hs->h->val;
+	spsym *hx = w->hxs;
+	spsym_zero(hx);
+	const double wt[3] = { 1, -st, ct };
+	for (long k = 0; k < w->nterm; k++)
+		hx->val[w->tp[k]] += hv[w->tq[k]] * wt[w->tw[k] / 3] * wt[w->tw[k] % 3];
+	const double *gb = w->pg + 2 * w->b;
+	int at = spsym_find(hx, n - 1, n - 1);
+	hx->val[at] += -(gb[0] * ct + gb[1] * st) / w->l;
+}
+
 /* Builds the preconditioner at x: the shifted factor of the sparse
  * Hessian in the variables, H_x + shift I with shift the smallest of
  * spchol_precond's ladder (fixed < 0) or shift = fixed exactly (fixed
  * >= 0; nonzero when that is not positive definite).  Free: the first
- * call chooses its kind.  Held: H_x is the terms listed by held_pattern
- * plus the curvature -grad_b W . e / l on (s, s) as in hessvec, and the
- * factor is kept. */
+ * call chooses its kind.  Held: H_x is held_hessian's, and the factor is
+ * kept. */
 static int build(relax_work *w, const double *x, double fixed)
 {
 	w->have = 0;
 	w->svalid = 0;
 	if (w->held) {
-		int n = w->n;
-		double t = x[n - 1] / w->l, ct = cos(t), st = sin(t);
-		x_to_r(w, x, t, w->pr);
-		mesh_energy(w->m, w->pr, w->p, w->pg, w->ew);
-		mesh_hessian_sparse(w->m, w->pr, w->p, w->hs);
-		const double *hv = w->hs->h->val;
+		held_hessian(w, x);
 		spsym *hx = w->hxs;
-		spsym_zero(hx);
-		const double wt[3] = { 1, -st, ct };
-		for (long k = 0; k < w->nterm; k++)
-			hx->val[w->tp[k]] += hv[w->tq[k]] * wt[w->tw[k] / 3] * wt[w->tw[k] % 3];
-		const double *gb = w->pg + 2 * w->b;
-		int at = spsym_find(hx, n - 1, n - 1);
-		hx->val[at] += -(gb[0] * ct + gb[1] * st) / w->l;
 		if (fixed >= 0) {
 			if (spchol_factor(w->ch, hx, fixed) != MESH_OK)
 				return -1;
@@ -1003,6 +1013,113 @@ static int gnstep(const double *x, double lambda, double *s, double pd[2], void 
 	return 0;
 }
 
+/* ---- off a saddle ---- */
+
+/* Held: a point that ends short of the tolerance with no junction run
+ * to zero length may sit on a saddle, where the force is small and the
+ * Hessian indefinite: Gauss-Newton's J^T J and the shifted factors of
+ * Levenberg-Marquardt and Newton-CG see no negative curvature, so every
+ * step they take is as small as the force and they stall there
+ * (disordered-1 relaxed at p0 3.90, junction 26, the return leg at l0 +
+ * 0.26: W 1.2e-7 above the outgoing leg's minimum at the same length,
+ * the force 2e-10, eigenvalues down to about -1e-3).  This steps from x
+ * along the eigenvector of the lowest eigenvalue (negcurv.h), the sign
+ * that does not raise W to first order, with the largest step (its
+ * largest vertex displacement RELAX_ESCAPE_SMAX, halved down to a
+ * millionth of that) that lowers W by a quarter of its curvature's part,
+ * 0.25 alpha^2 d^T H d, or more.  Once per point.  Eigenvalues above
+ * -RELAX_ESCAPE_TAU of the largest diagonal entry are the zero modes of
+ * a floppy tissue and its rounding, not a saddle.  1 if x moved, 0 if
+ * not, or a MESH_E* code; the evaluations and factorizations made are
+ * added to *neval and *nfactor. */
+#define RELAX_ESCAPE_TAU 1e-9
+#define RELAX_ESCAPE_SMAX 0.1
+
+static int held_escape(relax_work *w, double *x, long *neval, long *nfactor)
+{
+	int n = w->n;
+	held_hessian(w, x);
+	double tau = RELAX_ESCAPE_TAU * spsym_diagmax(w->hxs), q;
+	double *d = malloc(4 * (size_t)n * sizeof *d);
+	ldl *f = ldl_analyze(w->hxs);
+	int st = MESH_ENOMEM, nneg = 0;
+	if (d == NULL || f == NULL)
+		goto out;
+	double *hd = d + n, *g = hd + n, *xt = g + n;
+	/* the inertia without a growth bound: a wrong count only costs the
+	 * search, the direction is judged by its curvature below */
+	st = ldl_inertia(f, w->hxs, tau, INFINITY, &nneg);
+	++*nfactor;
+	if (st != MESH_OK || nneg == 0 ||
+	    negcurv_direction(f, w->hxs, tau, INFINITY, tau, d, hd, &q, nfactor) != MESH_OK) {
+		st = st == MESH_ENOMEM ? st : 0;
+		goto out;
+	}
+	st = 0;
+	/* the exact curvature along d (hxs is the preconditioner's
+	 * assembly; hessvec is what Newton-CG follows) */
+	hessvec(x, d, hd, w);
+	q = sparse_dot(d, hd, n);
+	double W0 = objective(x, g, w);
+	*neval += 2;
+	if (!(q < -tau) || !isfinite(W0))
+		goto out;
+	if (sparse_dot(d, g, n) > 0)
+		for (int i = 0; i < n; i++)
+			d[i] = -d[i];
+	double dm = fabs(d[n - 1]);
+	for (int i = 0; i + 1 < n - 1; i += 2)
+		dm = fmax(dm, hypot(d[i], d[i + 1]));
+	for (double al = RELAX_ESCAPE_SMAX / dm; al * dm > 1e-6 * RELAX_ESCAPE_SMAX; al *= 0.5) {
+		for (int i = 0; i < n; i++)
+			xt[i] = x[i] + al * d[i];
+		double W = objective(xt, g, w);
+		++*neval;
+		if (W <= W0 + 0.25 * al * al * q && W < W0) {
+			memcpy(x, xt, (size_t)n * sizeof *x);
+			st = 1;
+			goto out;
+		}
+	}
+out:
+	ldl_free(f);
+	free(d);
+	return st;
+}
+
+/* Held, after min_run ended short (rep its report): off a saddle
+ * (held_escape) and min_run once more from there.  The second run's
+ * point is taken only if it converges; otherwise x is the first run's
+ * again.  Its counts are added to rep either way. */
+static int escape_and_rerun(relax_work *w, const min_opts *mo, min_report *rep)
+{
+	int n = w->n;
+	double *keep = malloc((size_t)n * sizeof *keep);
+	if (keep == NULL)
+		return MESH_ENOMEM;
+	memcpy(keep, w->x, (size_t)n * sizeof *keep);
+	long ne = 0, nf = 0;
+	int st = held_escape(w, w->x, &ne, &nf);
+	min_report r2 = { 0 };
+	if (st == 1) {
+		w->jzero = -1;
+		st = min_run(n, w->x, objective, w, mo, &r2);
+		if (st != MESH_OK && st != MESH_ENOMEM && st != MESH_EDOM) {
+			memcpy(w->x, keep, (size_t)n * sizeof *keep);
+			w->jzero = -1;
+		}
+	} else if (st == MESH_OK) {
+		st = MESH_ENOCONV;
+	}
+	rep->neval += ne + r2.neval;
+	rep->nhessvec += r2.nhessvec;
+	rep->npcsetup += nf + r2.npcsetup;
+	rep->ngnstep += r2.ngnstep;
+	rep->stopped = r2.stopped;
+	free(keep);
+	return st;
+}
+
 /* The adapter's part of o for min_run. */
 static void adapt(relax_work *w, min_opts *mo)
 {
@@ -1202,6 +1319,8 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 	w->pcnext = 0;
 	int stale = w->have && !npc0;
 	int st = min_run(n, w->x, objective, w, &mo, &rep);
+	if (st == MESH_ENOCONV && w->jzero < 0 && !rep.stopped && w->hxs != NULL)
+		st = escape_and_rerun(w, &mo, &rep);
 	if (st == MESH_ENOMEM || st == MESH_EDOM)
 		return st;
 	/* One more evaluation at the returned point: the minimizer's report

@@ -135,7 +135,10 @@ void relax_coords(const relax_work *w, double *r);
  * adapter's; o->algo MIN_GN minimizes W as the sum of squares of the
  * cells' residuals sqrt(ka) (A - 1) and P - p0), the variables left at
  * the result.  Before it, the kept factor built nearest the held
- * length replaces the one held, if that is nearer.  If o->stop (or stop)
+ * length replaces the one held, if that is nearer.  A point that ends
+ * short with no junction run to zero, on a saddle, is stepped off it
+ * along negative curvature and minimized once more (o->precond only; the
+ * step's factorizations count in npc).  If o->stop (or stop)
  * becomes nonzero the point ends early (MESH_ENOCONV).  MESH_OK with the
  * point in pt (whatever its status), MESH_ENOMEM, MESH_EDOM. */
 int relax_solve(relax_work *w, const struct min_opts *o, const volatile sig_atomic_t *stop,
