@@ -1275,6 +1275,7 @@ int relax_hold(relax_work *w, const mesh *m, const model *p, int j, const min_op
 	w->nkept = 0;
 	w->pck = -1;
 	w->pcnext = 0;
+	w->nfresh = 0;
 	w->hvalid = 0;
 	w->evalid = 0;
 	w->gn.ok = 0;
