@@ -126,8 +126,6 @@ static struct opts parse(int argc, char **argv)
 	int first = cli_parse(argc, argv, d, help);
 	const char *sweep_opt = cli_opt_first(d, SWEEP), *leg_opt = cli_opt_first(d, LEG);
 	o.j.threads = cli_threads_apply(o.j.threads, 0);
-	if (o.j.threads > FL_MAXTHREADS)
-		o.j.threads = FL_MAXTHREADS;
 	cli_opt_junctions(d);
 	if (o.linear && sweep_opt)
 		cli_usage_error("--linear sweeps nothing: --%s does nothing with it", sweep_opt);
@@ -141,10 +139,9 @@ static struct opts parse(int argc, char **argv)
 	if (o.max_memory && !o.linear)
 		cli_usage_error("--max-memory is for --linear: the sweeps need no dense work");
 	cli_opt_only_with(d, "linear-method", "linear");
-	if (o.j.fl.t1 > 0 && !(o.j.fl.t1_new < o.j.fl.t1))
-		cli_usage_error("--t1 must be longer than a new junction (%g)", o.j.fl.t1_new);
-	if (o.j.fl.range / o.j.fl.step > 1e6)
-		cli_usage_error("--range/--step: more than 1e6 points per leg");
+	mesh_error err;
+	if (fl_job_check(&o.j, &err) != MESH_OK)
+		cli_usage_error("%s", err.msg);
 	o.input = cli_opt_input(argc, argv, first);
 	o.j.kind = o.barrier ? FL_JOB_BARRIER : o.linear ? FL_JOB_LINEAR : FL_JOB_SWEEPS;
 	return o;
