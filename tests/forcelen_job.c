@@ -108,7 +108,7 @@ static int same_as_single(const struct seen *s, const mesh *m, const model *p,
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(27);
+	tap_plan(31);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(4, 4, &m, &err);
@@ -319,6 +319,22 @@ int main(void)
 	ok(stop == SIGPIPE && t.written == 0, "the stop set, no curve counted as written");
 	if (f)
 		fclose(f);
+
+	/* the options a command line is refused for before any mesh */
+	fl_job_opts c = { .kind = FL_JOB_SWEEPS };
+	fl_opts_init(&c.fl);
+	ok(fl_job_check(&c, &err) == MESH_OK, "fl_job_check: the defaults go together");
+	c.fl.t1 = c.fl.t1_new;
+	st = fl_job_check(&c, &err);
+	ok(st == MESH_EDOM && strstr(err.msg, "--t1 must be longer than a new junction") != NULL,
+	   "a T1 threshold as long as the junction a T1 makes: %s", err.msg);
+	c.fl.t1 = 1.5 * c.fl.t1_new;
+	c.fl.step = c.fl.range / 1e6;
+	ok(fl_job_check(&c, &err) == MESH_OK, "a longer threshold, 1e6 points per leg: fine");
+	c.fl.step = c.fl.range / 1.01e6;
+	st = fl_job_check(&c, &err);
+	ok(st == MESH_EDOM && strstr(err.msg, "more than 1e6 points per leg") != NULL,
+	   "1.01e6 points per leg: %s", err.msg);
 	mesh_free(m);
 	return tap_done();
 }

@@ -32,6 +32,12 @@ FILE *cli_open(const char *path)
 	return f;
 }
 
+void cli_close(FILE *f)
+{
+	if (f != stdin)
+		fclose(f);
+}
+
 FILE *cli_open_sample(const char *path)
 {
 	if (strncmp(path, "samples/", 8) != 0 || strstr(path, "..") != NULL)

@@ -11,6 +11,8 @@
  * stderr says that the program waits for it).  Exit 1 if it cannot be
  * opened. */
 FILE *cli_open(const char *path);
+/* Close what cli_open gave, unless it is stdin. */
+void cli_close(FILE *f);
 /* A shipped sample by its name, samples/NAME.mesh (the name the README
  * and the man pages use), when no such file is where the program runs:
  * the copy make install put in PREFIX/share/tis/samples/ (PREFIX the

@@ -179,6 +179,15 @@ void cli_jsel(jsel *js, const char *name, int again, const char *choose, int arg
 		js->path = optarg;
 }
 
+int *cli_junctions(const mesh *m, const jsel *js, int *n)
+{
+	int *sel;
+	mesh_error err;
+	if (junction_select(m, js, &sel, n, &err) != MESH_OK)
+		cli_die(EXIT_INPUT, "%s", err.msg);
+	return sel;
+}
+
 void cli_model_option(cli_model_opts *mo, const char *name, const char *arg)
 {
 	if (strcmp(name, "p0") == 0) {
@@ -211,7 +220,31 @@ void cli_model_set(mesh *m, const cli_model_opts *mo)
  * after them. */
 enum { OPT_BASE = 256, OPT_MAX = 96 };
 
-static void opt_apply(cli_optdef *d, const char *arg, int argc, char **argv)
+static int is_jsel(const cli_optdef *d)
+{
+	return d->kind == CLI_JUNCTIONS || d->kind == CLI_ALL;
+}
+
+/* The junction options of defs, "--a, --b, --c", the last two joined by
+ * last instead, after the start of buf. */
+static void jsel_names(const cli_optdef *defs, const char *last, char *buf, size_t n)
+{
+	int count = 0, k = 0;
+	for (const cli_optdef *d = defs; d->name; d++)
+		count += is_jsel(d);
+	for (const cli_optdef *d = defs; d->name; d++) {
+		if (!is_jsel(d))
+			continue;
+		const char *sep = k == 0 ? "" : k == count - 1 ? last : ", ";
+		size_t len = strlen(buf);
+		k++;
+		if (len < n)
+			snprintf(buf + len, n - len, "%s--%s", sep, d->name);
+	}
+}
+
+/* choose: the junction options' message where an entry has none */
+static void opt_apply(cli_optdef *d, const char *arg, int argc, char **argv, const char *choose)
 {
 	char opt[64];
 	snprintf(opt, sizeof opt, "--%s", d->name);
@@ -225,7 +258,9 @@ static void opt_apply(cli_optdef *d, const char *arg, int argc, char **argv)
 		*(unsigned long *)d->to = (unsigned long)cli_long(opt, arg, (long)d->lo, (long)d->hi);
 		break;
 	case CLI_STRING: *(const char **)d->to = arg; break;
-	case CLI_JUNCTIONS: case CLI_ALL: cli_jsel(d->to, d->name, d->val, d->msg, argc, argv); break;
+	case CLI_JUNCTIONS: case CLI_ALL:
+		cli_jsel(d->to, d->name, d->val, d->msg ? d->msg : choose, argc, argv);
+		break;
 	case CLI_MODEL: cli_model_option(d->to, d->name, arg); break;
 	case CLI_PARSE:
 		if (d->parse(d->to, arg) != 0)
@@ -257,6 +292,8 @@ int cli_parse(int argc, char **argv, cli_optdef *defs, const char *help)
 	lo[n] = (struct option){ "help", no_argument, NULL, 'h' };
 	lo[n + 1] = (struct option){ "version", no_argument, NULL, OPT_BASE + n };
 	lo[n + 2] = (struct option){ 0 };
+	char choose[512] = "choose one of ";
+	jsel_names(defs, ", ", choose, sizeof choose);
 	int c, place = 0;
 	while ((c = getopt_long(argc, argv, shorts, lo, NULL)) != -1) {
 		if (c == 'h')
@@ -272,7 +309,7 @@ int cli_parse(int argc, char **argv, cli_optdef *defs, const char *help)
 		place++;
 		if (!d->seen)
 			d->seen = place;
-		opt_apply(d, optarg, argc, argv);
+		opt_apply(d, optarg, argc, argv, choose);
 	}
 	return optind;
 }
@@ -284,6 +321,27 @@ const char *cli_opt_first(const cli_optdef *defs, unsigned group)
 		if ((d->group & group) && d->seen && (!first || d->seen < first->seen))
 			first = d;
 	return first ? first->name : NULL;
+}
+
+void cli_opt_junctions(const cli_optdef *defs)
+{
+	for (const cli_optdef *d = defs; d->name; d++)
+		if (is_jsel(d) && d->seen)
+			return;
+	char names[512] = "";
+	jsel_names(defs, " or ", names, sizeof names);
+	cli_usage_error("choose junctions with %s", names);
+}
+
+void cli_opt_only_with(const cli_optdef *defs, const char *name, const char *with)
+{
+	int given = 0, with_given = 0;
+	for (const cli_optdef *d = defs; d->name; d++) {
+		given |= strcmp(d->name, name) == 0 && d->seen;
+		with_given |= strcmp(d->name, with) == 0 && d->seen;
+	}
+	if (given && !with_given)
+		cli_usage_error("--%s is for --%s", name, with);
 }
 
 const char *cli_opt_input(int argc, char **argv, int first)

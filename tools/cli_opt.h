@@ -52,6 +52,10 @@ void cli_vertex_pair(const char *opt, int argc, char *const argv[], long *a, lon
 void cli_jsel(jsel *js, const char *name, int again, const char *choose, int argc,
               char *const argv[]);
 
+/* The junctions js chooses of m (junction_select: malloc'd, *n of them);
+ * exit 1 with the reason if it cannot. */
+int *cli_junctions(const mesh *m, const jsel *js, int *n);
+
 /* Model parameters given on the command line (--p0, --ka), which
  * override the mesh's.  cli_model_option takes one: name "p0" or "ka",
  * arg its value (cli_param: the range every source of it shares).
@@ -83,7 +87,8 @@ typedef enum {
 	CLI_ULONG,      /* the same: *(unsigned long *)to (lo >= 0) */
 	CLI_STRING,     /* the argument itself: *(const char **)to */
 	CLI_JUNCTIONS,  /* a junction choice (cli_jsel with again val and
-	                   choose msg): *(jsel *)to */
+	                   choose msg, if NULL "choose one of --a, --b, ..."
+	                   naming the table's junction options): *(jsel *)to */
 	CLI_ALL,        /* the same without an argument: every junction
 	                   (--all, --network) */
 	CLI_MODEL,      /* "p0" or "ka" (cli_model_option): *(cli_model_opts *)to */
@@ -117,6 +122,13 @@ int cli_parse(int argc, char **argv, cli_optdef *defs, const char *help);
 /* The long name of the option given first among those of defs whose
  * group shares a bit with group, NULL if none was given. */
 const char *cli_opt_first(const cli_optdef *defs, unsigned group);
+/* Unless one of the junction options of defs (CLI_JUNCTIONS, CLI_ALL) was
+ * given, a usage error "choose junctions with --a, --b or --c" naming
+ * them in the table's order. */
+void cli_opt_junctions(const cli_optdef *defs);
+/* A usage error "--NAME is for --WITH" if option name of defs was given
+ * without option with. */
+void cli_opt_only_with(const cli_optdef *defs, const char *name, const char *with);
 /* The input file operand from argv[first] on: NULL (stdin) if none, a
  * usage error if more than one. */
 const char *cli_opt_input(int argc, char **argv, int first);

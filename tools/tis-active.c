@@ -75,7 +75,7 @@ struct opts {
 	act_opts a;
 	act_job_opts jo;
 	cli_model_opts mo;
-	const char *trace, *events, *input;
+	const char *file[2], *input;   /* --trace, --events (ACT_TRACE, ACT_EVENTS) */
 	int several;   /* --random, --regular, --list: a run each, a row each */
 };
 
@@ -91,18 +91,16 @@ static int watch(void *to, const char *arg)
 static struct opts parse(int argc, char **argv)
 {
 	enum { T1 = 1, SCHEME = 2 };   /* given: the defaults of act_opts_mode stand aside */
-	static const char choose[] =
-		"choose one of --junction, --index, --random, --regular, --list, --network";
 	struct opts o = { .jo = { .perturb = -1, .seed = 1, .t_end = 1000, .trace_every = 1 } };
 	act_opts_init(&o.a);
 	o.a.threads = 0;
 	cli_optdef d[] = {
-		{ "junction", CLI_JUNCTIONS, &o.js, .msg = choose },
-		{ "index", CLI_JUNCTIONS, &o.js, .msg = choose },
-		{ "random", CLI_JUNCTIONS, &o.js, .msg = choose },
-		{ "regular", CLI_JUNCTIONS, &o.js, .msg = choose },
-		{ "list", CLI_JUNCTIONS, &o.js, .msg = choose },
-		{ "network", CLI_ALL, &o.js, .msg = choose },
+		{ "junction", CLI_JUNCTIONS, .to = &o.js },
+		{ "index", CLI_JUNCTIONS, .to = &o.js },
+		{ "random", CLI_JUNCTIONS, .to = &o.js },
+		{ "regular", CLI_JUNCTIONS, .to = &o.js },
+		{ "list", CLI_JUNCTIONS, .to = &o.js },
+		{ "network", CLI_ALL, .to = &o.js },
 		{ "rate", CLI_INVERSE, &o.a.tau, .lo = 1e-9, .hi = 1e9 },
 		{ "tau", CLI_DOUBLE, &o.a.tau, .lo = 1e-9, .hi = 1e9 },
 		{ "gamma0", CLI_DOUBLE, &o.a.gamma0, .lo = -1e6, .hi = 1e6 },
@@ -126,17 +124,16 @@ static struct opts parse(int argc, char **argv)
 		  .msg = "--t1-rule: paper or hold, not '%s'" },
 		{ "ou-dt", CLI_DOUBLE, &o.a.ou_dt, .lo = 1e-9, .hi = 1 },
 		{ "collapse", CLI_DOUBLE, &o.a.l_collapse, .lo = 1e-9, .hi = 0.5 },
-		{ "trace", CLI_STRING, .to = &o.trace },
+		{ "trace", CLI_STRING, .to = &o.file[ACT_TRACE] },
 		{ "trace-every", CLI_DOUBLE, &o.jo.trace_every, .lo = 1e-9, .hi = 1e12 },
 		{ "watch", CLI_PARSE, &o.jo, .parse = watch },
-		{ "events", CLI_STRING, .to = &o.events },
+		{ "events", CLI_STRING, .to = &o.file[ACT_EVENTS] },
 		{ "every", CLI_DOUBLE, &o.jo.every, .lo = 1e-9, .hi = 1e12 },
 		{ "threads", CLI_INT, &o.a.threads, .lo = 1, .hi = ENERGY_MAXTHREADS },
 		{ NULL }
 	};
 	int first = cli_parse(argc, argv, d, help);
-	if (o.js.kind == JSEL_NONE)
-		cli_usage_error("choose junctions with --junction, --index, --random, --regular, --list or --network");
+	cli_opt_junctions(d);
 	o.input = cli_opt_input(argc, argv, first);
 	o.js.seed = o.jo.seed;
 	o.jo.name = cli_input_name(o.input);
@@ -146,14 +143,13 @@ static struct opts parse(int argc, char **argv)
 	if (act_opts_check(&o.a, &err) != MESH_OK)
 		cli_usage_error("%s", err.msg);
 	o.several = o.js.kind == JSEL_RANDOM || o.js.kind == JSEL_REGULAR || o.js.kind == JSEL_LIST;
-	if (o.jo.nwatch && !network)
-		cli_usage_error("--watch is for --network");
+	cli_opt_only_with(d, "watch", "network");
 	if (o.several && o.jo.every > 0)
 		cli_usage_error("--every writes frames of one run: not with --random, --regular or --list");
-	if (o.several && o.trace && !cli_one_d(o.trace))
-		cli_usage_error("--trace with several junctions needs one %%d in the file name");
-	if (o.several && o.events && !cli_one_d(o.events))
-		cli_usage_error("--events with several junctions needs one %%d in the file name");
+	for (int k = 0; k < 2; k++)
+		if (o.several && o.file[k] && !cli_one_d(o.file[k]))
+			cli_usage_error("--%s with several junctions needs one %%d in the file name",
+			                k == ACT_TRACE ? "trace" : "events");
 	o.a.threads = cli_threads_apply(o.a.threads, 1);
 	o.a.thread_min = cli_thread_min();
 	return o;
@@ -194,12 +190,11 @@ static void on_frame(void *data, mesh *m, double t)
 static void on_begin(void *data, mesh *m, act_tables *t)
 {
 	struct out *u = data;
-	const char *name[2] = { u->o->trace, u->o->events };
 	for (int k = 0; k < 2; k++)
 		if (u->rt)
 			t->f[k] = u->f[k] = cli_runtable_open(&u->rt[k], m, t->cols[k]);
-		else if (name[k]) {
-			t->f[k] = u->f[k] = cli_open_numbered(name[k], u->jfile);
+		else if (u->o->file[k]) {
+			t->f[k] = u->f[k] = cli_open_numbered(u->o->file[k], u->jfile);
 			cli_table_header_run(t->f[k], m, t->cols[k]);
 		}
 }
@@ -224,11 +219,10 @@ static act_result run(const struct opts *o, mesh *m, const model *p, int j, int 
 	}
 	char note[128];
 	int stopped = act_stopped(&r, cli_stop_name(), note, sizeof note);
-	const char *name[2] = { o->trace, o->events };
 	for (int k = 0; k < 2; k++)
 		if (rt ? cli_runtable_close(&rt[k], m, stopped ? note : NULL, stopped) != 0
 		       : u.f[k] && fclose(u.f[k]) != 0)
-			cli_die(EXIT_INPUT, "%s: write error", rt ? rt[k].path : name[k]);
+			cli_die(EXIT_INPUT, "%s: write error", rt ? rt[k].path : o->file[k]);
 	return r;
 }
 
@@ -237,8 +231,8 @@ static void one(const struct opts *o, mesh *m, const model *p, int j)
 	/* one run: the file names as given, continued where a stopped run left
 	 * them */
 	cli_runtable rt[2];
-	cli_runtable_take(&rt[0], m, "trace", o->trace, cli_continues(m));
-	cli_runtable_take(&rt[1], m, "events", o->events, cli_continues(m));
+	cli_runtable_take(&rt[ACT_TRACE], m, "trace", o->file[ACT_TRACE], cli_continues(m));
+	cli_runtable_take(&rt[ACT_EVENTS], m, "events", o->file[ACT_EVENTS], cli_continues(m));
 	act_result r = run(o, m, p, j, -1, rt);
 	char note[512];
 	act_note(note, sizeof note, &o->a, &r);
@@ -284,10 +278,7 @@ int main(int argc, char **argv)
 	cli_model_set(m, &o.mo);
 	cli_history(m);
 	model p = model_from_mesh(m);
-	int n = 1, *sel = NULL;
-	mesh_error err;
-	if (o.js.kind != JSEL_ALL && junction_select(m, &o.js, &sel, &n, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
+	int n = 1, *sel = o.js.kind == JSEL_ALL ? NULL : cli_junctions(m, &o.js, &n);
 	if (o.several)
 		several(&o, m, &p, sel, n);
 	else

@@ -90,17 +90,16 @@ static int method(void *to, const char *arg) { return fl_linear_method_parse(arg
 
 static struct opts parse(int argc, char **argv)
 {
-	/* the options only a sweep uses, only its legs, --lmin, --linear-method */
-	enum { SWEEP = 1, LEG = 2, LMIN = 4, METHOD = 8 };
-	static const char choose[] = "choose one of --junction, --index, --random, --all";
+	/* the options only a sweep uses, only its legs, --lmin */
+	enum { SWEEP = 1, LEG = 2, LMIN = 4 };
 	struct opts o = { .js = { .kind = JSEL_NONE, .seed = 1 }, .relax = 1 };
 	fl_opts_init(&o.j.fl);
 	cli_optdef d[] = {
-		{ "junction", CLI_JUNCTIONS, &o.js, .val = 1, .msg = choose },
-		{ "index", CLI_JUNCTIONS, &o.js, .val = 1, .msg = choose },
-		{ "random", CLI_JUNCTIONS, &o.js, .val = 1, .msg = choose },
+		{ "junction", CLI_JUNCTIONS, &o.js, .val = 1 },
+		{ "index", CLI_JUNCTIONS, &o.js, .val = 1 },
+		{ "random", CLI_JUNCTIONS, &o.js, .val = 1 },
 		{ "seed", CLI_ULONG, &o.js.seed, .lo = 0, .hi = 4294967295. },
-		{ "all", CLI_ALL, &o.js, .val = 1, .msg = choose },
+		{ "all", CLI_ALL, &o.js, .val = 1 },
 		{ "p0", CLI_MODEL, .to = &o.mo },
 		{ "ka", CLI_MODEL, .to = &o.mo },
 		{ "step", CLI_DOUBLE, &o.j.fl.step, .lo = 1e-9, .hi = 10, .group = SWEEP },
@@ -120,35 +119,29 @@ static struct opts parse(int argc, char **argv)
 		{ "summary", CLI_FLAG, &o.j.summary, .val = 1 },
 		{ "threads", CLI_INT, &o.j.threads, .lo = 1, .hi = FL_MAXTHREADS },
 		{ "max-memory", CLI_STRING, .to = &o.max_memory },
-		{ "linear-method", CLI_PARSE, &o.j.method, .parse = method, .group = METHOD,
+		{ "linear-method", CLI_PARSE, &o.j.method, .parse = method,
 		  .msg = "--linear-method: unknown method '%s' (dense, sparse, auto)" },
 		{ NULL }
 	};
 	int first = cli_parse(argc, argv, d, help);
 	const char *sweep_opt = cli_opt_first(d, SWEEP), *leg_opt = cli_opt_first(d, LEG);
 	o.j.threads = cli_threads_apply(o.j.threads, 0);
-	if (o.j.threads > FL_MAXTHREADS)
-		o.j.threads = FL_MAXTHREADS;
-	if (o.js.kind == JSEL_NONE)
-		cli_usage_error("choose junctions with --junction, --index, --random or --all");
+	cli_opt_junctions(d);
 	if (o.linear && sweep_opt)
 		cli_usage_error("--linear sweeps nothing: --%s does nothing with it", sweep_opt);
 	if (o.barrier && (o.linear || leg_opt))
 		cli_usage_error("--barrier shrinks each junction once: --%s does nothing with it",
 		                o.linear ? "linear" : leg_opt);
-	if (o.j.summary && !o.barrier)
-		cli_usage_error("--summary is for --barrier");
+	cli_opt_only_with(d, "summary", "barrier");
 	if (o.barrier && !cli_opt_first(d, LMIN))
 		o.j.fl.lmin = 1e-3;
 	o.j.max_bytes = cli_max_memory(o.max_memory);
 	if (o.max_memory && !o.linear)
 		cli_usage_error("--max-memory is for --linear: the sweeps need no dense work");
-	if (cli_opt_first(d, METHOD) && !o.linear)
-		cli_usage_error("--linear-method is for --linear");
-	if (o.j.fl.t1 > 0 && !(o.j.fl.t1_new < o.j.fl.t1))
-		cli_usage_error("--t1 must be longer than a new junction (%g)", o.j.fl.t1_new);
-	if (o.j.fl.range / o.j.fl.step > 1e6)
-		cli_usage_error("--range/--step: more than 1e6 points per leg");
+	cli_opt_only_with(d, "linear-method", "linear");
+	mesh_error err;
+	if (fl_job_check(&o.j, &err) != MESH_OK)
+		cli_usage_error("%s", err.msg);
 	o.input = cli_opt_input(argc, argv, first);
 	o.j.kind = o.barrier ? FL_JOB_BARRIER : o.linear ? FL_JOB_LINEAR : FL_JOB_SWEEPS;
 	return o;
@@ -157,15 +150,11 @@ static struct opts parse(int argc, char **argv)
 /* The junctions to measure, in output order. */
 static int *select_junctions(const struct opts *o, const mesh *m, int *count)
 {
-	int *sel, n;
-	mesh_error err;
-	if (junction_select(m, &o->js, &sel, &n, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
-	int nshort = o->linear ? 0 : fl_count_short(m, sel, n, &o->j.fl);
+	int *sel = cli_junctions(m, &o->js, count);
+	int nshort = o->linear ? 0 : fl_count_short(m, sel, *count, &o->j.fl);
 	if (nshort)
 		cli_warn("%d of %d junctions are no longer than --lmin %g: no inward legs for them",
-		         nshort, n, o->j.fl.lmin);
-	*count = n;
+		         nshort, *count, o->j.fl.lmin);
 	return sel;
 }
 
@@ -184,17 +173,16 @@ static void progress(void *data, int done, int count)
 /* The end: a stop, no mesh, points without a minimum or not converged. */
 static void finish(const struct opts *o, const fl_job_tally *t, int nmesh)
 {
-	const char *what = o->barrier ? "barriers" : "curves";
+	const char *what = o->barrier ? "barriers" : "curves", *whole = o->barrier ? "meshes" : what;
 	if (cli_stop && !t->header)
 		cli_interrupted(!nmesh ? "before a mesh came in" : o->barrier ? "before a mesh's barriers "
 		                "were whole" : "before a curve was whole");
 	if (cli_stop) {
-		printf("# %s interrupted by %s: %d of %d %s written%s, whole %s only\n",
-		       cli_name, cli_stop_name(), t->written, t->asked, what,
-		       nmesh > 1 ? " (of the meshes read so far)" : "", o->barrier ? "meshes" : what);
+		printf("# %s interrupted by %s: %d of %d %s written%s, whole %s only\n", cli_name,
+		       cli_stop_name(), t->written, t->asked, what,
+		       nmesh > 1 ? " (of the meshes read so far)" : "", whole);
 		cli_finish_status(EXIT_NOCONV, "interrupted by %s: wrote %d of %d %s, whole %s only",
-		                  cli_stop_name(), t->written, t->asked, what,
-		                  o->barrier ? "meshes" : what);
+		                  cli_stop_name(), t->written, t->asked, what, whole);
 	}
 	if (nmesh == 0)
 		cli_no_mesh(o->input);
@@ -257,7 +245,6 @@ int main(int argc, char **argv)
 		free(sel);
 		mesh_free(m);
 	}
-	if (in != stdin)
-		fclose(in);
+	cli_close(in);
 	finish(&o, &t, nmesh);
 }

@@ -1,5 +1,4 @@
 /* tis-stability - linear stability of active junctions at a force-free state. */
-#include <getopt.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -63,74 +62,60 @@ struct opts {
 	const char *input;
 };
 
+/* --rate or --tau, once: the rates 1/tau_m */
+static int rates(struct opts *o, const char *opt, const char *arg, int tau)
+{
+	if (o->rate)
+		cli_usage_error("give one of --rate and --tau, once");
+	o->rate = cli_double_list_above(opt, arg, &o->nrate, 0, 1);
+	for (int i = 0; tau && i < o->nrate; i++)
+		o->rate[i] = 1 / o->rate[i];
+	return 0;
+}
+static int rate(void *to, const char *arg) { return rates(to, "--rate", arg, 0); }
+static int tau(void *to, const char *arg) { return rates(to, "--tau", arg, 1); }
+
+static int gamma0(void *to, const char *arg)
+{
+	struct opts *o = to;
+	free(o->gamma0);   /* the last --gamma0 counts */
+	o->gamma0 = cli_double_list_above("--gamma0", arg, &o->ngamma0, 0, 0);
+	return 0;
+}
+
+static int solver(void *to, const char *arg)
+{
+	if (strcmp(arg, "lapack") != 0 && strcmp(arg, "gsl") != 0)
+		return 1;
+	*(int *)to = strcmp(arg, "lapack") == 0 ? STAB_LAPACK : STAB_GSL;
+	return 0;
+}
+
 static struct opts parse(int argc, char **argv)
 {
-	enum { O_JUNCTION = 256, O_INDEX, O_LIST, O_ALL, O_RATE, O_TAU, O_GAMMA0,
-	       O_P0, O_KA, O_DENSE, O_NETWORK, O_FTOL, O_ZTOL, O_SOLVER, O_MAXMEM, O_VERSION };
-	static const struct option lo[] = {
-		{ "junction", required_argument, NULL, O_JUNCTION },
-		{ "index", required_argument, NULL, O_INDEX },
-		{ "list", required_argument, NULL, O_LIST },
-		{ "all", no_argument, NULL, O_ALL },
-		{ "rate", required_argument, NULL, O_RATE },
-		{ "tau", required_argument, NULL, O_TAU },
-		{ "gamma0", required_argument, NULL, O_GAMMA0 },
-		{ "p0", required_argument, NULL, O_P0 },
-		{ "ka", required_argument, NULL, O_KA },
-		{ "dense", no_argument, NULL, O_DENSE },
-		{ "network", no_argument, NULL, O_NETWORK },
-		{ "ftol", required_argument, NULL, O_FTOL },
-		{ "zero-tol", required_argument, NULL, O_ZTOL },
-		{ "solver", required_argument, NULL, O_SOLVER },
-		{ "max-memory", required_argument, NULL, O_MAXMEM },
-		{ "threads", required_argument, NULL, 'T' },
-		{ "help", no_argument, NULL, 'h' },
-		{ "version", no_argument, NULL, O_VERSION },
-		{ 0 }
-	};
 	struct opts o = { .js.kind = JSEL_NONE };
 	stab_opts_init(&o.so);
-	int c, li;
-	while ((c = getopt_long(argc, argv, ":h", lo, &li)) != -1) {
-		switch (c) {
-		case O_JUNCTION: case O_INDEX: case O_LIST: case O_ALL:
-			cli_jsel(&o.js, lo[li].name, 0, "choose one of --junction, --index, --list, --all",
-			         argc, argv);
-			break;
-		case O_RATE:
-		case O_TAU:
-			if (o.rate)
-				cli_usage_error("give one of --rate and --tau, once");
-			o.rate = cli_double_list_above(c == O_RATE ? "--rate" : "--tau", optarg,
-			                               &o.nrate, 0, 1);
-			for (int i = 0; c == O_TAU && i < o.nrate; i++)
-				o.rate[i] = 1 / o.rate[i];
-			break;
-		case O_GAMMA0:
-			free(o.gamma0);
-			o.gamma0 = cli_double_list_above("--gamma0", optarg, &o.ngamma0, 0, 0);
-			break;
-		case O_P0: cli_model_option(&o.mo, "p0", optarg); break;
-		case O_KA: cli_model_option(&o.mo, "ka", optarg); break;
-		case O_DENSE: o.dense = 1; break;
-		case O_NETWORK: o.network = 1; break;
-		case O_FTOL: o.so.ftol = cli_double_range("--ftol", optarg, 1e-16, 1e6); break;
-		case O_ZTOL: o.so.zerotol = cli_double_range("--zero-tol", optarg, 0, 0.1); break;
-		case O_SOLVER:
-			if (strcmp(optarg, "lapack") == 0)
-				o.so.solver = STAB_LAPACK;
-			else if (strcmp(optarg, "gsl") == 0)
-				o.so.solver = STAB_GSL;
-			else
-				cli_usage_error("--solver: unknown eigensolver '%s'", optarg);
-			break;
-		case O_MAXMEM: o.max_memory = optarg; break;
-		case 'T': o.threads = cli_threads(optarg); break;
-		case 'h': cli_help(help);
-		case O_VERSION: cli_version();
-		default: cli_bad_option(argv, c);
-		}
-	}
+	cli_optdef d[] = {
+		{ "junction", CLI_JUNCTIONS, .to = &o.js },
+		{ "index", CLI_JUNCTIONS, .to = &o.js },
+		{ "list", CLI_JUNCTIONS, .to = &o.js },
+		{ "all", CLI_ALL, .to = &o.js },
+		{ "rate", CLI_PARSE, .to = &o, .parse = rate },
+		{ "tau", CLI_PARSE, .to = &o, .parse = tau },
+		{ "gamma0", CLI_PARSE, .to = &o, .parse = gamma0 },
+		{ "p0", CLI_MODEL, .to = &o.mo },
+		{ "ka", CLI_MODEL, .to = &o.mo },
+		{ "dense", CLI_FLAG, &o.dense, .val = 1 },
+		{ "network", CLI_FLAG, &o.network, .val = 1 },
+		{ "ftol", CLI_DOUBLE, &o.so.ftol, .lo = 1e-16, .hi = 1e6 },
+		{ "zero-tol", CLI_DOUBLE, &o.so.zerotol, .lo = 0, .hi = 0.1 },
+		{ "solver", CLI_PARSE, &o.so.solver, .parse = solver,
+		  .msg = "--solver: unknown eigensolver '%s'" },
+		{ "max-memory", CLI_STRING, .to = &o.max_memory },
+		{ "threads", CLI_INT, &o.threads, .lo = 1, .hi = ENERGY_MAXTHREADS },
+		{ NULL }
+	};
+	int first = cli_parse(argc, argv, d, help);
 	o.so.max_bytes = cli_max_memory(o.max_memory);
 	if (o.rate == NULL)
 		cli_usage_error("give the rates 1/tau_m with --rate or --tau");
@@ -140,9 +125,7 @@ static struct opts parse(int argc, char **argv)
 		cli_usage_error("--network makes every junction active: no junction options");
 	if (o.js.kind == JSEL_NONE)
 		o.js.kind = JSEL_ALL;
-	if (argc - optind > 1)
-		cli_usage_error("at most one input file");
-	o.input = optind < argc ? argv[optind] : NULL;
+	o.input = cli_opt_input(argc, argv, first);
 	cli_threads_apply(o.threads, 1);
 	return o;
 }
@@ -195,9 +178,7 @@ static int analyse(const mesh *m, const model *p, const struct opts *o)
 			}
 		return 0;
 	}
-	int count, *sel;
-	if (junction_select(m, &o->js, &sel, &count, &err) != MESH_OK)
-		cli_die(EXIT_INPUT, "%s", err.msg);
+	int count, *sel = cli_junctions(m, &o->js, &count);
 	announce(m, o, job, count);
 	stab_decomp *sd;
 	if (stab_decomp_alloc(m, p, &o->so, &sd, &err) != MESH_OK) {
@@ -243,8 +224,7 @@ int main(int argc, char **argv)
 		}
 		mesh_free(m);
 	}
-	if (in != stdin)
-		fclose(in);
+	cli_close(in);
 	free(o.rate);
 	free(o.gamma0);
 	if (nmesh == 0)

@@ -243,11 +243,17 @@ enum { FL_JOB_SWEEPS, FL_JOB_LINEAR, FL_JOB_BARRIER };
 typedef struct {
 	int kind;            /* FL_JOB_* */
 	fl_opts fl;
-	int threads;         /* the sweeps' and the barriers' */
+	int threads;         /* the sweeps' and the barriers' (at most
+	                        FL_MAXTHREADS of them are used) */
 	int summary;         /* FL_JOB_BARRIER */
 	int method;          /* FL_JOB_LINEAR: FL_LIN_DENSE, _SPARSE, _AUTO */
 	double max_bytes;    /* FL_JOB_LINEAR */
 } fl_job_opts;
+
+/* The sweep options that do not go together (a T1 threshold no longer
+ * than the junction a T1 makes, more than 1e6 points per leg): MESH_EDOM
+ * naming the options as tis-forcelen(1) does, else MESH_OK. */
+int fl_job_check(const fl_job_opts *o, mesh_error *err);
 
 /* Callbacks of fl_job, either NULL.  header: the table's header, once for
  * all meshes (fl_job_tally.header), just before its first rows are

@@ -11,6 +11,16 @@
 #include <pthread.h>
 #include <stdlib.h>
 
+int fl_job_check(const fl_job_opts *o, mesh_error *err)
+{
+	if (o->fl.t1 > 0 && !(o->fl.t1_new < o->fl.t1))
+		return mesh_error_set(err, 0, MESH_EDOM, "--t1 must be longer than a new junction (%g)",
+		                      o->fl.t1_new);
+	if (o->fl.range / o->fl.step > 1e6)
+		return mesh_error_set(err, 0, MESH_EDOM, "--range/--step: more than 1e6 points per leg");
+	return MESH_OK;
+}
+
 int fl_rest(mesh *m, const model *p, double ftol, int relax, fl_rest_report *rr,
             mesh_error *err)
 {
@@ -266,7 +276,8 @@ static int job_barriers(FILE *f, const mesh *m, const model *p, const fl_job_opt
 	FILE *mf = open_memstream(&buf, &len);
 	if (mf == NULL)
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
-	int st = bar_job(mf, m, p, sel, count, &bo, o->threads, o->summary, &nbad, stop, err);
+	int threads = o->threads < FL_MAXTHREADS ? o->threads : FL_MAXTHREADS;
+	int st = bar_job(mf, m, p, sel, count, &bo, threads, o->summary, &nbad, stop, err);
 	if (fclose(mf) != 0) {
 		free(buf);
 		return mesh_error_set(err, 0, MESH_ENOMEM, "out of memory");
