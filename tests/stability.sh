@@ -5,7 +5,7 @@
 # at g0* and on eigenvalue rows of a relaxed Voronoi tissue, the network at
 # gamma0 = 0, negative modes, and bad input.
 . "$(dirname "$0")/lib.sh"
-plan 36
+plan 38
 
 tis-hex 18 18 --p0 3.65 >"$T/h18.mesh"
 tis-hex 6 6 --p0 3.65 >"$T/h6.mesh"
@@ -113,4 +113,16 @@ OPENBLAS_CORETYPE=Prescott tis-stability --index 2 --rate 0.1 --gamma0 0.05,0.45
 ok "12 x 12, Prescott kernels: the leader = dgeev's at 3 points, the complex one among them" \
 	awk -F'\t' '!/^#/ && $1 != "p0" { n++; d = $8 - $10; e = $9 - $11; if (d * d + e * e > 1e-18) bad++; c += $9 > 0.2 }
 		END { exit !(n == 3 && !bad && c == 1) }' "$T/pres.tsv"
+# SIGTERM part way through a long job (a second in; the whole takes
+# about 15 s): the table ends with its mark, status 3; with stdout on
+# /dev/full the write error's status 1 (the mark's write was not checked)
+term_run() {
+	tis-stability --all --rate 0.025:0.5:2000 "$T/h18.mesh" >"$1" 2>/dev/null & pid=$!
+	sleep 1; kill -TERM $pid 2>/dev/null; wait $pid; st=$?
+}
+term_run "$T/term.tsv"
+ok "SIGTERM: status 3 ($st), the table ends with its mark" \
+	sh -c "[ $st -eq 3 ] && tail -1 '$T/term.tsv' | grep -q '^# tis-stability interrupted by SIGTERM: the table ends early'"
+term_run /dev/full
+ok "SIGTERM with stdout on /dev/full: status 1 ($st)" test "$st" -eq 1
 done_testing

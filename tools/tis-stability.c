@@ -229,15 +229,10 @@ int main(int argc, char **argv)
 	free(o.gamma0);
 	if (nmesh == 0)
 		cli_no_mesh(o.input);
-	if (cli_stop) {
-		printf("# interrupted: the table ends early\n");
-		fflush(stdout);
-		cli_die(EXIT_NOCONV, "interrupted: the table ends early");
-	}
-	if (unstable) {
-		fflush(stdout);
-		cli_die(EXIT_INPUT, "%d of %d meshes not at a minimum (first: p0 %g, %d negative "
-		        "hessian modes): kind unstable, no thresholds", unstable, nmesh, p0neg, nneg);
-	}
+	cli_table_stopped();
+	if (unstable)
+		cli_finish_status(EXIT_INPUT, "%d of %d meshes not at a minimum (first: p0 %g, %d "
+		                  "negative hessian modes): kind unstable, no thresholds", unstable,
+		                  nmesh, p0neg, nneg);
 	cli_finish();
 }
