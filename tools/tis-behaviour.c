@@ -144,8 +144,7 @@ int main(int argc, char **argv)
 	table *tb;
 	mesh_error err;
 	int st = o.network ? table_read(in, 5, need_net, &tb, &err) : table_read(in, 2, need, &tb, &err);
-	if (in != stdin)
-		fclose(in);
+	cli_close(in);
 	if (st == MESH_ENOMEM)
 		cli_die(EXIT_INPUT, "out of memory");
 	if (st != MESH_OK && cli_stop)

@@ -145,8 +145,7 @@ int main(int argc, char **argv)
 		elastic_row_write(stdout, &p, fmax, &r);
 		mesh_free(m);
 	}
-	if (in != stdin)
-		fclose(in);
+	cli_close(in);
 	if (nmesh == 0)
 		cli_no_mesh(o.input);
 	cli_table_stopped();

@@ -220,8 +220,7 @@ int main(int argc, char **argv)
 	}
 	table_reader_free(rd);
 	rd = NULL;
-	if (in != stdin)
-		fclose(in);
+	cli_close(in);
 	finish_curve(&o, &curve, &groups);
 	mesh_free(prov);
 	prov = NULL;

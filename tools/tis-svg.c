@@ -221,7 +221,6 @@ int main(int argc, char **argv)
 				m = NULL;
 		}
 	}
-	if (in != stdin)
-		fclose(in);
+	cli_close(in);
 	cli_finish();
 }

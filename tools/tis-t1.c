@@ -125,12 +125,10 @@ int main(int argc, char **argv)
 	while (!cli_stop && cli_read_mesh(in, o.input, &line, &m)) {
 		cli_refuse_held(m, o.input);
 		model p = cli_model(m, &o.mo);
-		mesh_error err;
 		cli_rest_opts ro = { .tol = o.t1.min.ftol, .relax = o.relax, .refuse = 1 };
 		cli_rest(m, &p, &ro, NULL);
-		int *sel, n;
-		if (junction_select(m, &o.js, &sel, &n, &err) != MESH_OK)
-			cli_die(EXIT_INPUT, "%s", err.msg);
+		int n;
+		int *sel = cli_junctions(m, &o.js, &n);
 		t1r_result *res = malloc(((size_t)n + 1) * sizeof *res);
 		int *st = malloc(((size_t)n + 1) * sizeof *st);
 		mesh_error *errs = malloc(((size_t)n + 1) * sizeof *errs);
@@ -156,8 +154,7 @@ int main(int argc, char **argv)
 		free(sel);
 		mesh_free(m);
 	}
-	if (in != stdin)
-		fclose(in);
+	cli_close(in);
 	if (nmesh == 0)
 		cli_no_mesh(o.input);
 	cli_table_stopped();
