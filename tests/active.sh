@@ -3,7 +3,7 @@
 # several junctions, interruption and continuation.  Short runs on 6x6.
 . "$(dirname "$0")/lib.sh"
 
-plan 63
+plan 64
 
 tis-hex 6 6 --p0 3.65 >"$T/hex.mesh" || exit 1
 H="$T/hex.mesh"
@@ -38,8 +38,13 @@ fails_with 1 "missing input file" tis-active --index 0 "$T/none.mesh"
 if [ -w /dev/full ]; then
 	ok "a full disk: one message, no 'Success' in it" sh -c "tis-active --random 2 --seed 1 --time 1 $A '$H' \
 		>/dev/full 2>'$T/full.err'; [ \$? -eq 1 ] && grep -q '^tis-active: stdout: write error' '$T/full.err' && ! grep -q Success '$T/full.err'"
+	# a numbered trace on a full disk: the message names that file
+	ln -s /dev/full "$T/full3.tsv"
+	printf '5\n3\n' >"$T/l35"
+	ok "a numbered trace on a full disk: its own name in the message" sh -c "tis-active --list '$T/l35' --trace '$T/full%d.tsv' --time 1 $A '$H' \
+		>/dev/null 2>'$T/tr.err'; [ \$? -eq 1 ] && grep -qx 'tis-active: $T/full3.tsv: write error' '$T/tr.err'"
 else
-	skip 1 "no /dev/full"
+	skip 2 "no /dev/full"
 fi
 
 # one junction: final mesh, trace, history line

@@ -42,14 +42,19 @@ int cli_one_d(const char *name)
 	return p && p[1] == 'd' && strchr(p + 1, '%') == NULL;
 }
 
+void cli_numbered_name(char *name, size_t size, const char *pattern, int j)
+{
+	const char *p = j >= 0 ? strstr(pattern, "%d") : NULL;
+	if (p)
+		snprintf(name, size, "%.*s%d%s", (int)(p - pattern), pattern, j, p + 2);
+	else
+		snprintf(name, size, "%s", pattern);
+}
+
 FILE *cli_open_numbered(const char *pattern, int j)
 {
 	char name[4096];
-	const char *p = j >= 0 ? strstr(pattern, "%d") : NULL;
-	if (p)
-		snprintf(name, sizeof name, "%.*s%d%s", (int)(p - pattern), pattern, j, p + 2);
-	else
-		snprintf(name, sizeof name, "%s", pattern);
+	cli_numbered_name(name, sizeof name, pattern, j);
 	FILE *f = fopen(name, "w");
 	if (f == NULL)
 		cli_die(EXIT_INPUT, "%s: cannot open for writing", name);

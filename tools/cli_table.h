@@ -26,6 +26,8 @@ void cli_table_stopped(void);
  * "%d" replaced by j (cli_one_d says whether it has that), or pattern
  * itself for j < 0.  Exit 1 if it cannot be opened for writing. */
 FILE *cli_open_numbered(const char *pattern, int j);
+/* That name, into name (size bytes), for messages about the file. */
+void cli_numbered_name(char *name, size_t size, const char *pattern, int j);
 int cli_one_d(const char *name);
 
 /* A table a run writes beside its mesh (tis-active --trace and --events,

@@ -221,8 +221,11 @@ static act_result run(const struct opts *o, mesh *m, const model *p, int j, int 
 	int stopped = act_stopped(&r, cli_stop_name(), note, sizeof note);
 	for (int k = 0; k < 2; k++)
 		if (rt ? cli_runtable_close(&rt[k], m, stopped ? note : NULL, stopped) != 0
-		       : u.f[k] && fclose(u.f[k]) != 0)
-			cli_die(EXIT_INPUT, "%s: write error", rt ? rt[k].path : o->file[k]);
+		       : u.f[k] && (ferror(u.f[k]) | (fclose(u.f[k]) != 0))) {
+			char name[4096];
+			cli_numbered_name(name, sizeof name, rt ? rt[k].path : o->file[k], jfile);
+			cli_die(EXIT_INPUT, "%s: write error", name);
+		}
 	return r;
 }
 
