@@ -127,11 +127,6 @@ trials "tis-hex | tis-anneal | tis-relax > mesh" mesh 5 \
 # ---- told to stop while it waits for its input, which then ends empty
 # (the program before it was stopped before it wrote a record): each says
 # so in one line, writes nothing, and ends as SIGTERM ends a program
-# caught: the signal handler is in place (its SigCgt bit in /proc)
-caught() {
-	m=$(awk '/^SigCgt:/ { print $2 }' "/proc/$1/status" 2>/dev/null)
-	[ -n "$m" ] && [ $((0x$m & 0x4000)) -ne 0 ]
-}
 waited() {
 	d=$1; shift
 	rm -f "$T/fifo"; mkfifo "$T/fifo"

@@ -126,6 +126,13 @@ interrupt() {
 	done
 }
 
+# caught PID: its SIGTERM handler is in place (the SigCgt bit in /proc):
+# a signal sent sooner, while the program still loads, ends it unhandled
+caught() {
+	m=$(awk '/^SigCgt:/ { print $2 }' "/proc/$1/status" 2>/dev/null)
+	[ -n "$m" ] && [ $((0x$m & 0x4000)) -ne 0 ]
+}
+
 # same_state A B: the two meshes' vertices and everything after them alike
 # (their history lines may differ)
 same_state() { sed -n '/^vertices/,$p' "$1" >"$T/f1"; sed -n '/^vertices/,$p' "$2" >"$T/f2"; cmp -s "$T/f1" "$T/f2"; }
