@@ -78,6 +78,11 @@ long cli_long(const char *opt, const char *arg, long lo, long hi)
 	return v;
 }
 
+int cli_threads(const char *arg)
+{
+	return (int)cli_long("--threads", arg, 1, ENERGY_MAXTHREADS);
+}
+
 int *cli_int_list(const char *opt, const char *arg, long lo, long hi, int *n)
 {
 	char *buf = strdup(arg), *save = NULL;

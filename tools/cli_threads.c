@@ -1,5 +1,5 @@
 /* cli_threads.c - the cores a program computes on. */
-#include "cli.h"
+#include "cli_threads.h"
 
 #include <limits.h>
 #include <stdlib.h>
@@ -8,6 +8,7 @@
 #include <omp.h>
 #endif
 
+#include "energy.h"
 #include "range.h"
 
 /* OpenBLAS's own call (LIBS links it by name). */
@@ -20,11 +21,6 @@ void cli_threads_init(void)
 	 * (bench/RESULTS.md, tis-stability) */
 	if (getenv("OPENBLAS_NUM_THREADS") == NULL)
 		openblas_set_num_threads(1);
-}
-
-int cli_threads(const char *arg)
-{
-	return (int)cli_long("--threads", arg, 1, ENERGY_MAXTHREADS);
 }
 
 /* OMP_NUM_THREADS as libgomp reads it: its first entry, a count > 0. */

@@ -315,7 +315,7 @@ static int build_edge(const build_ws *b, int a, int v, int skip, int last)
 
 /* The box, the coordinates, and each cell's sides and vertex ids; then
  * the out-going edges of every vertex. */
-static int build_cells(build_ws *b, mesh_error *err)
+static int assemble_cells(build_ws *b, mesh_error *err)
 {
 	const mesh *m = b->m;
 	int nv = m->nv, nc = m->nc, nk = m->coff[nc];
@@ -471,7 +471,7 @@ int mesh_build(mesh *m, const long *cell_line, mesh_error *err)
 	free_derived(m);
 
 	build_ws b = { .m = m, .cell_line = cell_line };
-	int st = build_cells(&b, err);
+	int st = assemble_cells(&b, err);
 	if (st == MESH_OK) {
 		m->cj = malloc((nk ? nk : 1) * sizeof *m->cj);
 		m->cimg = malloc((nk ? 2 * (size_t)nk : 1) * sizeof *m->cimg);
