@@ -31,9 +31,7 @@ ok "... whose history says nothing of implicit steps" sh -c "! grep -q implicit 
 # the tolerance is part of the protocol a stopped run is checked against
 P2="--paper --stage 0.5:1000 --stage 0:100 --relax 0 --seed 4 --settle 1e-2 --implicit 1e-3"
 tis-anneal $P2 "$T/h.mesh" >"$T/part.mesh" 2>/dev/null &
-pid=$!
-i=0; while ! caught $pid && [ $i -lt 600 ]; do sleep 0.05; i=$((i + 1)); done
-sleep 0.3; kill -TERM $pid; wait $pid
+pid=$!; ready $pid; sleep 0.3; kill -TERM $pid; wait $pid
 ok "a run with --implicit stopped early leaves its state" grep -q '^state run tis-anneal .*implicit 0.001' "$T/part.mesh"
 fails_with 1 "continuing with another tolerance is refused" tis-anneal --paper --stage 0.5:1000 --stage 0:100 --relax 0 --seed 4 --settle 1e-2 --implicit 1e-4 "$T/part.mesh"
 tis-anneal $P2 "$T/part.mesh" >"$T/cont.mesh" 2>/dev/null

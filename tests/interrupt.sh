@@ -132,7 +132,7 @@ waited() {
 	rm -f "$T/fifo"; mkfifo "$T/fifo"
 	"$@" <"$T/fifo" >"$T/out" 2>"$T/err" & pid=$!
 	exec 3>"$T/fifo"   # the input, open and empty until the signal is in
-	i=0; while ! caught $pid && [ $i -lt 600 ]; do sleep 0.05; i=$((i + 1)); done
+	ready $pid
 	kill -TERM $pid; exec 3>&-; { wait $pid; } 2>/dev/null; st=$?
 	if [ $st -eq 143 ] && [ ! -s "$T/out" ] && [ "$(wc -l <"$T/err")" -eq 1 ] &&
 		grep -q "^$1: interrupted by SIGTERM before .*: nothing written" "$T/err"; then

@@ -126,12 +126,15 @@ interrupt() {
 	done
 }
 
-# caught PID: its SIGTERM handler is in place (the SigCgt bit in /proc):
-# a signal sent sooner, while the program still loads, ends it unhandled
+# caught PID: its SIGTERM handler is in place (the SigCgt bit in /proc;
+# cli_catch_signals sets SIGINT's first): a signal sent sooner, while the
+# program still loads (20 ms and more for its shared libraries), ends it
+# unhandled.  ready PID: wait for that (at most 30 s).
 caught() {
 	m=$(awk '/^SigCgt:/ { print $2 }' "/proc/$1/status" 2>/dev/null)
 	[ -n "$m" ] && [ $((0x$m & 0x4000)) -ne 0 ]
 }
+ready() { i=0; while ! caught "$1" && [ $i -lt 600 ]; do sleep 0.05; i=$((i + 1)); done; }
 
 # same_state A B: the two meshes' vertices and everything after them alike
 # (their history lines may differ)
