@@ -134,7 +134,7 @@ caught() {
 	m=$(awk '/^SigCgt:/ { print $2 }' "/proc/$1/status" 2>/dev/null)
 	[ -n "$m" ] && [ $((0x$m & 0x4000)) -ne 0 ]
 }
-ready() { i=0; while ! caught "$1" && [ $i -lt 600 ]; do sleep 0.05; i=$((i + 1)); done; }
+ready() { i=0; while ! caught "$1" && [ $i -lt 6000 ]; do sleep 0.005; i=$((i + 1)); done; }
 
 # same_state A B: the two meshes' vertices and everything after them alike
 # (their history lines may differ)
