@@ -188,8 +188,8 @@ static void plastic_mesh(void)
 	 * zero-residual manifold, each solved by CG on J J^T + lambda I with
 	 * the factor held).  A result test cannot see a slower solve (the
 	 * other methods recover the point), so the work is bounded: at most
-	 * 8 evaluations and 2 factorizations a point, against 5.9 and 1.4
-	 * today; CG with half steps takes 11.8 and 4.4. */
+	 * 8 evaluations and 1 factorization a point, against 5.9 and 0.38
+	 * today; CG with half steps takes 11.8 evaluations. */
 	{
 		fl_point *q = malloc((size_t)fl_npoints(d, 151, &o) * sizeof *q);
 		int nq = 0, nz = 0;
@@ -201,7 +201,7 @@ static void plastic_mesh(void)
 				ev += q[i].neval;
 				pc += q[i].npc;
 			}
-		ok(sq == MESH_OK && nz > 50 && ev <= 8L * nz && pc <= 2L * nz,
+		ok(sq == MESH_OK && nz > 50 && ev <= 8L * nz && pc <= nz,
 		   "a floppy leg's %d zero-energy points: %ld evaluations, %ld factorizations", nz, ev, pc);
 		free(q);
 	}

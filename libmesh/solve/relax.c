@@ -731,7 +731,9 @@ static int gn_pattern(relax_work *w)
 {
 	const mesh *m = w->m;
 	struct gn *g = &w->gn;
+	long nfactor = g->nfactor;  /* a count over the work space's life */
 	gn_free(g);
+	g->nfactor = nfactor;
 	int nc = m->nc, ncorner = m->coff[nc], n = w->n;
 	g->m = 2 * nc;
 	g->sp = malloc(((size_t)nc + 1) * sizeof *g->sp);
@@ -1319,6 +1321,7 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 	}
 	w->pcnext = 0;
 	int stale = w->have && !npc0;
+	long gnf0 = w->gn.nfactor;
 	int st = min_run(n, w->x, objective, w, &mo, &rep);
 	if (st == MESH_ENOCONV && w->jzero < 0 && !rep.stopped && w->hxs != NULL)
 		st = escape_and_rerun(w, &mo, &rep);
@@ -1336,7 +1339,9 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 	pt->W = W;
 	pt->fres = fres;
 	pt->neval = rep.neval + rep.nhessvec + rep.ngnstep + 1;
-	pt->npc = rep.npcsetup + rep.ngnstep + npc0;
+	/* the Gauss-Newton steps' own factorizations, not the steps: most
+	 * solve with the factor held */
+	pt->npc = rep.npcsetup + (w->gn.nfactor - gnf0) + npc0;
 	pt->status = fres <= o->ftol ? RELAX_OK : w->jzero >= 0 ? RELAX_NOMIN : RELAX_NOCONV;
 	pt->jzero = pt->status == RELAX_NOMIN ? w->jzero : -1;
 	/* A point that converged in one Newton step ends before min_run's
