@@ -48,6 +48,8 @@ chain() {
 	echo $stops >"$T/stops"
 }
 
+half() { awk -v d="$1" 'BEGIN { printf "%.3f", d / 2 }'; }
+
 # chain_at_least SIG DELAY N: chain until it stopped N times or more,
 # halving the delay (at most 5 tries); $T/delay is the last delay
 chain_at_least() {
@@ -56,7 +58,7 @@ chain_at_least() {
 		chain "$1" "$d" || return 1
 		echo "$d" >"$T/delay"
 		[ "$(cat "$T/stops")" -ge "$3" ] && return 0
-		d=$(awk -v d="$d" 'BEGIN { printf "%.3f", d / 2 }')
+		d=$(half "$d")
 	done
 }
 
@@ -79,7 +81,7 @@ for try in 1 2 3 4 5 6; do
 	tis-anneal $P "$T/h.mesh" >"$T/part.mesh" 2>/dev/null &
 	pid=$!; ready $pid; sleep "$delay"; kill -TERM $pid 2>/dev/null; wait $pid
 	grep -q '^state dyn_run' "$T/part.mesh" && break
-	delay=$(awk -v d="$delay" 'BEGIN { printf "%.3f", d / 2 }')
+	delay=$(half "$delay")
 done
 fails_with 1 "continuing with another seed is refused" tis-anneal --stage 0.8:100 --stage 0.1:60 --relax 20 --seed 6 "$T/part.mesh"
 ok "... naming the options of the stopped run" grep -q 'seed 5' "$T/err"

@@ -106,10 +106,11 @@ struct relax_work {
 		double *r;        /* held: the coordinates of x */
 		int ok;           /* built for the held junction (or free) */
 		int have;         /* ch holds a factor (of this or an earlier K) */
-		long nfactor;     /* factorizations made */
 		long nstale;      /* CG iterations with the factor held since it
 		                     was made */
 	} gn;
+	long gnfactor;        /* J J^T factorizations over the work space's
+	                         life (gn is remade for each held junction) */
 	double prox;          /* min_opts.prox: weight of |x - x0|^2 / 2 */
 	const double *x0;     /* its centre (the mesh's coordinates) */
 	/* The watch: from the lwatch-th evaluation or product on, a junction
@@ -731,9 +732,7 @@ static int gn_pattern(relax_work *w)
 {
 	const mesh *m = w->m;
 	struct gn *g = &w->gn;
-	long nfactor = g->nfactor;  /* a count over the work space's life */
 	gn_free(g);
-	g->nfactor = nfactor;
 	int nc = m->nc, ncorner = m->coff[nc], n = w->n;
 	g->m = 2 * nc;
 	g->sp = malloc(((size_t)nc + 1) * sizeof *g->sp);
@@ -990,7 +989,7 @@ static int gnstep(const double *x, double lambda, double *s, double pd[2], void 
 	if (!g->have || g->nstale >= GN_STALE_CG || gn_solve(g, 0) != 0) {
 		g->have = 0;
 		g->nstale = 0;
-		g->nfactor++;
+		w->gnfactor++;
 		if (spchol_factor(g->ch, g->k, 0) != MESH_OK)
 			return -1;
 		g->have = 1;
@@ -1321,7 +1320,7 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 	}
 	w->pcnext = 0;
 	int stale = w->have && !npc0;
-	long gnf0 = w->gn.nfactor;
+	long gnf0 = w->gnfactor;
 	int st = min_run(n, w->x, objective, w, &mo, &rep);
 	if (st == MESH_ENOCONV && w->jzero < 0 && !rep.stopped && w->hxs != NULL)
 		st = escape_and_rerun(w, &mo, &rep);
@@ -1341,7 +1340,7 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 	pt->neval = rep.neval + rep.nhessvec + rep.ngnstep + 1;
 	/* the Gauss-Newton steps' own factorizations, not the steps: most
 	 * solve with the factor held */
-	pt->npc = rep.npcsetup + (w->gn.nfactor - gnf0) + npc0;
+	pt->npc = rep.npcsetup + (w->gnfactor - gnf0) + npc0;
 	pt->status = fres <= o->ftol ? RELAX_OK : w->jzero >= 0 ? RELAX_NOMIN : RELAX_NOCONV;
 	pt->jzero = pt->status == RELAX_NOMIN ? w->jzero : -1;
 	/* A point that converged in one Newton step ends before min_run's
