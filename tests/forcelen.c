@@ -255,6 +255,84 @@ static void plastic_mesh(void)
 	mesh_free(d);
 }
 
+/* A square in a floppy tissue: disordered-5 relaxed at p0 3.86 keeps W
+ * = 0.0188, all of it but 1e-4 in its one four-sided cell (a square's
+ * perimeter 4 sqrt(A) is above p0), with hundreds of zero modes.
+ * fl_auto_algo picks Gauss-Newton, which gives the square rows of its
+ * own Newton model (relax.h); junction 336's outward leg against
+ * Levenberg-Marquardt on the Hessian (the method before): the same f
+ * at every point (1e-6: the minima of a floppy tissue differ within
+ * its zero modes), and the work bounded: a median of at most 9
+ * evaluations a point and 4 factorizations of J J^T (today 7 and 2.9;
+ * with the square's two residuals instead of its Newton rows 46 and
+ * 6.2, with its gradient doubled in them 69 and 9.0). */
+static int cmp_long(const void *a, const void *b)
+{
+	long x = *(const long *)a, y = *(const long *)b;
+	return (x > y) - (x < y);
+}
+
+/* disordered-5 relaxed at p0 3.86, or NULL after two failed tests (the
+ * two of each of its users). */
+static mesh *square_sample(model *p, fl_opts *o)
+{
+	mesh *d = relaxed_sample_of("samples/disordered-5.mesh", 3.86, p, o);
+	if (d == NULL) {
+		ok(0, "disordered-5 read from samples/");
+		ok(0, "(no mesh)");
+	}
+	return d;
+}
+
+static void square_in_floppy(void)
+{
+	model p;
+	fl_opts o;
+	mesh *d = square_sample(&p, &o);
+	if (d == NULL)
+		return;
+	int nfr = 0;
+	for (int k = 0; k < d->nc; k++)
+		nfr += cell_frustrated(d, k, p.p0);
+	o.back = 0;
+	fl_work *w = fl_work_alloc(d);
+	int np = fl_npoints(d, 336, &o);
+	fl_point *q = malloc((size_t)np * sizeof *q), *r = malloc((size_t)np * sizeof *r);
+	int nq = 0, nr = 0, nok = 0;
+	int sq = fl_sweep(d, &p, 336, &o, w, q, &nq, NULL);
+	long ev = 0, pc = 0;
+	long *evs = malloc((size_t)np * sizeof *evs);
+	for (int i = 0; i < nq; i++) {
+		nok += q[i].status == FL_OK;
+		evs[i] = q[i].neval;
+		pc += q[i].npc;
+	}
+	qsort(evs, (size_t)nq, sizeof *evs, cmp_long);
+	ev = nq > 0 ? evs[nq / 2] : -1;
+	free(evs);
+	ok(sq == MESH_OK && o.min.algo == MIN_GN && nfr == 1 && nq > 50 && nok == nq &&
+	   ev <= 9 && pc <= 4L * nq,
+	   "a square in a floppy tissue: gn, %d of %d points ok, median %ld evaluations, %ld factorizations",
+	   nok, nq, ev, pc);
+	o.min.algo = MIN_LM;
+	int sr = fl_sweep(d, &p, 336, &o, w, r, &nr, NULL);
+	double worst = sq == MESH_OK && sr == MESH_OK && nr > 50 ? 0 : INFINITY;
+	int ncmp = 0;
+	for (int i = 0; i < nr; i++) {
+		const fl_point *u = at(q, nq, r[i].dir, r[i].l);
+		if (u && u->status == FL_OK && r[i].status == FL_OK) {
+			worst = fmax(worst, fabs(u->f - r[i].f));
+			ncmp++;
+		}
+	}
+	ok(ncmp > 50 && worst <= 1e-6,
+	   "and its f that of Levenberg-Marquardt on the Hessian within %.2g (%d points)", worst, ncmp);
+	free(q);
+	free(r);
+	fl_work_free(w);
+	mesh_free(d);
+}
+
 /* Near a rigidity transition the Hessian changes fastest along a sweep
  * and a factor serves only a point or two: disordered-1 at p0 3.83
  * (rigid, median |a1| 0.04), junction 0, out and back.  A point whose CG
@@ -333,8 +411,10 @@ static void off_saddle(void)
 
 /* A junction's curve does not depend on the junctions swept before it
  * with the same work (a thread's): disordered-5 at rest at p0 3.86, in
- * part floppy (Levenberg-Marquardt on the Hessian), junction 76 after
- * junction 4 and alone.  The held solver's count of points still to
+ * part floppy (a square: square_in_floppy), junction 76 after
+ * junction 4 and alone, by Levenberg-Marquardt on the Hessian (the
+ * method there before Gauss-Newton's Newton rows) and by fl_auto_algo's
+ * method.  The held solver's count of points still to
  * start with a fresh factor outlived a junction, so tis-forcelen
  * --threads 1 and --threads 2 wrote other bytes (junctions 76, 100 and
  * 330 of --random 20 --seed 1). */
@@ -342,34 +422,41 @@ static void history_free(void)
 {
 	model p;
 	fl_opts o;
-	mesh *d = relaxed_sample_of("samples/disordered-5.mesh", 3.86, &p, &o);
-	if (d == NULL) {
-		ok(0, "disordered-5 read from samples/");
+	mesh *d = square_sample(&p, &o);
+	if (d == NULL)
 		return;
+	/* Levenberg-Marquardt, where the bug was, and fl_auto_algo's
+	 * Gauss-Newton with the square's Newton rows */
+	for (int pass = 0; pass < 2; pass++) {
+		min_algo al = pass == 0 ? MIN_LM : o.min.algo;
+		o.min.algo = al;
+		fl_work *w = fl_work_alloc(d), *w2 = fl_work_alloc(d);
+		int np = fl_npoints(d, 4, &o) > fl_npoints(d, 76, &o) ? fl_npoints(d, 4, &o) : fl_npoints(d, 76, &o);
+		fl_point *a = malloc((size_t)np * sizeof *a), *b = malloc((size_t)np * sizeof *b);
+		int na = 0, nb = 0, same = 1;
+		int st = fl_sweep(d, &p, 4, &o, w, a, &na, NULL);
+		st |= fl_sweep(d, &p, 76, &o, w, a, &na, NULL);
+		st |= fl_sweep(d, &p, 76, &o, w2, b, &nb, NULL);
+		same = na == nb;
+		for (int i = 0; same && i < na; i++)
+			same = a[i].f == b[i].f && a[i].W == b[i].W && a[i].status == b[i].status;
+		ok(st == MESH_OK && (pass == 1 || al == MIN_LM) && same,
+		   "%s: junction 76 after junction 4 = junction 76 alone, bit for bit (%d and %d points)",
+		   min_algo_name(al), na, nb);
+		free(a);
+		free(b);
+		fl_work_free(w);
+		fl_work_free(w2);
+		/* fl_auto_algo's choice, for the second pass */
+		o.min.algo = fl_auto_algo(d, &p);
 	}
-	fl_work *w = fl_work_alloc(d), *w2 = fl_work_alloc(d);
-	int np = fl_npoints(d, 4, &o) > fl_npoints(d, 76, &o) ? fl_npoints(d, 4, &o) : fl_npoints(d, 76, &o);
-	fl_point *a = malloc((size_t)np * sizeof *a), *b = malloc((size_t)np * sizeof *b);
-	int na = 0, nb = 0, same = 1;
-	int st = fl_sweep(d, &p, 4, &o, w, a, &na, NULL);
-	st |= fl_sweep(d, &p, 76, &o, w, a, &na, NULL);
-	st |= fl_sweep(d, &p, 76, &o, w2, b, &nb, NULL);
-	same = na == nb;
-	for (int i = 0; same && i < na; i++)
-		same = a[i].f == b[i].f && a[i].W == b[i].W && a[i].status == b[i].status;
-	ok(st == MESH_OK && o.min.algo == MIN_LM && same,
-	   "junction 76 after junction 4 = junction 76 alone, bit for bit (%d and %d points)", na, nb);
-	free(a);
-	free(b);
-	fl_work_free(w);
-	fl_work_free(w2);
 	mesh_free(d);
 }
 
 int main(void)
 {
 	gsl_set_error_handler_off();
-	tap_plan(43);
+	tap_plan(46);
 	mesh *m;
 	mesh_error err;
 	lattice_honeycomb(6, 6, &m, &err);
@@ -557,6 +644,7 @@ int main(void)
 	sparse_checks(m, &p, &hi);
 	plastic_mesh();
 	near_transition();
+	square_in_floppy();
 	off_saddle();
 	history_free();
 

@@ -208,11 +208,16 @@ typedef struct {
  * take one Newton step from the extrapolated start; where it has some
  * and W is zero to rounding (at most FL_FLOPPY_W per cell: every cell at
  * its preferred area and perimeter) MIN_GN, whose minimum-norm steps keep
- * the sweep on a smooth path; where it has some and W > 0 (part of the
- * tissue rigid, part floppy) MIN_LM.  bench/RESULTS.md, tis-forcelen,
- * has the measurement.  Where the linear response cannot be computed
- * (not at rest), by W alone. */
+ * the sweep on a smooth path; where it has some and W > 0: MIN_GN too
+ * where that W is held by a few frustrated cells (geom.h: all but
+ * FL_FRUSTRATED_REST of it in at most RELAX_FR_MAX of the cells; a square
+ * below p0 = 4, the rest of the tissue floppy), which Gauss-Newton
+ * gives Newton rows (relax.h), else (part of the tissue rigid, part
+ * floppy) MIN_LM.  bench/RESULTS.md, tis-forcelen, has the measurements.
+ * Where the linear response cannot be computed (not at rest), by W
+ * alone. */
 #define FL_FLOPPY_W 1e-16
+#define FL_FRUSTRATED_REST 1e-3
 min_algo fl_auto_algo(const mesh *m, const model *p);
 
 #define FL_MAXTHREADS 64

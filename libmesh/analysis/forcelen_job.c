@@ -3,7 +3,9 @@
  * order, the rows of its tables.  See forcelen.h. */
 #include "forcelen.h"
 #include "barrier.h"
+#include "geom.h"
 #include "measure.h"
+#include "relax.h"
 
 #include <errno.h>
 #include <math.h>
@@ -47,6 +49,22 @@ int fl_rest(mesh *m, const model *p, double ftol, int relax, fl_rest_report *rr,
 	return MESH_OK;
 }
 
+/* Whether W at m->r is held by a few frustrated cells (fl_auto_algo). */
+static int frustrated_hold(const mesh *m, const model *p, double W)
+{
+	int nfr = 0;
+	double rest = 0;
+	for (int k = 0; k < m->nc; k++) {
+		if (cell_frustrated(m, k, p->p0)) {
+			nfr++;
+			continue;
+		}
+		double a = cell_area(m, m->r, k) - 1, q = cell_perimeter(m, m->r, k) - p->p0;
+		rest += p->ka * a * a + q * q;
+	}
+	return nfr > 0 && nfr <= RELAX_FR_MAX * m->nc && rest <= FL_FRUSTRATED_REST * W;
+}
+
 min_algo fl_auto_algo(const mesh *m, const model *p)
 {
 	energy_ws *ws = energy_ws_alloc(m);
@@ -63,7 +81,7 @@ min_algo fl_auto_algo(const mesh *m, const model *p)
 	linresp_free(lr);
 	if (in.nzero == 0)
 		return MIN_NEWTON;
-	return floppy0 ? MIN_GN : MIN_LM;
+	return floppy0 || frustrated_hold(m, p, W) ? MIN_GN : MIN_LM;
 }
 
 int fl_count_short(const mesh *m, const int *sel, int n, const fl_opts *o)

@@ -709,8 +709,10 @@ static int stage_lm(ctx *c, double *xio, long maxit)
  * points of a sweep lie on one smooth path and extrapolate well.  mu
  * follows the gain ratio against the Gauss-Newton model |R + J s|^2.
  * Where the residuals do not go to zero (GN_SLOWN steps in a row that
- * cut the energy less than GN_SLOW times: a minimum with W > 0, a floppy
- * tissue stretched beyond what it takes at no cost), it hands over to
+ * cut neither the energy nor the force GN_SLOW times: a minimum with W >
+ * 0, a floppy tissue stretched beyond what it takes at no cost; the
+ * force, because a problem's Newton rows, gnstep, converge quadratically
+ * to a minimum at W > 0), it hands over to
  * Levenberg-Marquardt on the Hessian for up to GN_LM_MAXIT steps, then
  * to Newton-CG from where that stopped (and min_run's polish is
  * Newton-CG): such a minimum is floppy in part (zero modes with W > 0),
@@ -762,7 +764,7 @@ static int stage_gn(ctx *c, double *xio)
 		if (gnt < HUGE_VAL && ((ft < f - c->slack && rho > 1e-4) || (ft <= f + c->slack && gnt < gn))) {
 			it++;
 			reject = 0;
-			slow = ft > GN_SLOW * f && ft > c->slack ? slow + 1 : 0;
+			slow = ft > GN_SLOW * f && ft > c->slack && !(gnt < GN_SLOW * gn) ? slow + 1 : 0;
 			memcpy(x, xt, n * sizeof *x);
 			memcpy(g, gt, n * sizeof *g);
 			f = ft;

@@ -29,7 +29,8 @@ typedef enum {
 	                    that is not isolated (floppy modes) */
 	MIN_GN,          /* Levenberg-Marquardt on the residuals of a sum of
 	                    squares (gnstep), MIN_LM (or MIN_NEWTON, gn_newton)
-	                    where they do not go to zero */
+	                    where its steps stop cutting both W and the force
+	                    by half */
 	MIN_AUTO,        /* the problem's choice (tis-forcelen: by the tissue's
 	                    rest state, forcelen.h); min_run: MIN_NEWTON */
 	MIN_NALGO
@@ -94,7 +95,9 @@ typedef struct min_opts {
 	 * Levenberg-Marquardt step -(J^T J + lambda I)^{-1} J^T R at x (J =
 	 * dR/dx), pd[0] = 2 R . J s and pd[1] = |J s|^2 (the model's decrease
 	 * along t s is -(t pd[0] + t^2 pd[1])); 0, or nonzero if it cannot.
-	 * NULL: MIN_GN is MIN_NEWTON. */
+	 * Some rows may be a term's Newton model written as a sum of
+	 * squares instead of its residuals (relax.h: frustrated cells), pd
+	 * then that model's.  NULL: MIN_GN is MIN_NEWTON. */
 	int (*gnstep)(const double *x, double lambda, double *s, double pd[2], void *data);
 	int gn_newton;     /* MIN_GN, where the residuals do not go to zero:
 	                      0 (default) hand over to MIN_LM, 1 to MIN_NEWTON
@@ -148,7 +151,7 @@ typedef struct min_report {
 	long nhessvec;     /* Hessian-vector products (Newton-CG) */
 	long npolish;      /* iterations of the polish (0: not needed) */
 	long npcsetup;     /* preconditioner builds (factorizations) */
-	long ngnstep;      /* Gauss-Newton steps (MIN_GN), each a factorization */
+	long ngnstep;      /* Gauss-Newton steps (MIN_GN), each a solve */
 	int stopped;       /* ended early because *stop was set */
 } min_report;
 

@@ -57,6 +57,15 @@ typedef struct {
 int mesh_pcgrid_build(const mesh *m, const double *x, double spacing, mesh_pcgrid *g);
 void mesh_pcgrid_free(mesh_pcgrid *g);
 
+/* Gauss-Newton (MIN_GN) gives a frustrated cell (geom.h: one that
+ * cannot reach W = 0 by itself, a square below p0 = 4) rows of its own
+ * Newton model instead of its two residuals, while at most RELAX_FR_MAX
+ * of the cells are frustrated (beyond that the tissue is rigid, not
+ * Gauss-Newton's case): with a square in a tissue otherwise floppy the
+ * steps converge quadratically to its minimum at W > 0, where with the
+ * residuals they converge linearly (bench/RESULTS.md, tis-forcelen). */
+#define RELAX_FR_MAX 0.125
+
 /* ---- one junction's length held ---- */
 
 /* The problem and its work space for meshes of m's counts: one per

@@ -64,3 +64,15 @@ double cell_perimeter(const mesh *m, const double *r, int k)
 		p += junction_length(m, r, m->cj[i]);
 	return p;
 }
+
+double polygon_perimeter_min(int n)
+{
+	if (n < 3)
+		return NAN;
+	return 2 * sqrt(n * tan(3.14159265358979323846 / n));
+}
+
+int cell_frustrated(const mesh *m, int k, double p0)
+{
+	return p0 < polygon_perimeter_min(m->coff[k + 1] - m->coff[k]);
+}

@@ -24,5 +24,13 @@ double cell_area(const mesh *m, const double *r, int k);
  * (0): coordinates a minimizer may hand back as a tissue. */
 int cell_areas_positive(const mesh *m, const double *r);
 double cell_perimeter(const mesh *m, const double *r, int k);
+/* The least perimeter of an n-gon of area 1, the regular one's, 2
+ * sqrt(n tan(pi/n)) (4 for a square, 3.812 for a pentagon, 3.722 for a
+ * hexagon, 2 sqrt(pi) as n grows): a cell of n sides with p0 below it
+ * cannot reach W = 0 by itself.  NaN for n < 3. */
+double polygon_perimeter_min(int n);
+/* Whether cell k cannot reach its preferred area and perimeter p0 at
+ * once: p0 below polygon_perimeter_min of its number of sides. */
+int cell_frustrated(const mesh *m, int k, double p0);
 
 #endif
