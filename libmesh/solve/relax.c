@@ -1,7 +1,7 @@
 /* relax.c - the tissue as min_run's problem, all vertices free or one
  * junction's length held (relax.h): objective, Hessian product,
- * preconditioner, collapse watch. */
-#include "relax.h"
+ * preconditioner, collapse watch; the Gauss-Newton step is relax_gn.c's. */
+#include "relax_int.h"
 #include "geom.h"
 #include "hessian.h"
 #include "ldl.h"
@@ -10,135 +10,10 @@
 #include "order.h"
 #include "sparse.h"
 
-#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* The most corners of a cell given Newton rows (gn_frustrated). */
-#define GN_NKSTACK 32
-
-/* Variables x: all vertex coordinates (n = 2 nv), or with junction
- * (a, b) held every vertex pair but b's, in vertex order, then s = l t
- * (n = 2 nv - 1; between minimizations the last slot holds t itself, so
- * that a change of l keeps the angle). */
-struct relax_work {
-	const mesh *m;
-	const model *p;
-	int nv, n;
-	int held;             /* 1: a junction's length is held */
-	int a, b;
-	double l, jx, jy;     /* held length, junction image offset */
-	energy_ws *ew;
-	hessian_ws *hw;
-	/* Held: full coordinates and gradient at the last evaluation (2 nv),
-	 * the variables (n), scratch for the final evaluation (n). */
-	double *r, *g, *x, *xtry;
-	/* The last evaluation of the objective (x, its gradient egx and W;
-	 * r and g hold them in full) when held: min_run evaluates its start
-	 * twice, relax_solve the returned point once more and the Hessian
-	 * product needs grad_b W at the point just evaluated, all the same x. */
-	double *ex, *egx, eW;
-	int evalid;
-	/* Hessian-vector products: Newton-CG asks for many at one point, so
-	 * the products' factors are prepared once per x (hx, the x they were
-	 * prepared at: about half of a product's cost), held with the full
-	 * coordinates and grad_b W there (hr, hg) and the product's full
-	 * vectors (hvr, hhr). */
-	double *hx, *hr, *hg, *hvr, *hhr;
-	int hvalid;
-	/* The preconditioner: the sparse Hessian of W (hs, made at the first
-	 * build: a well-conditioned solve, a proximal step's, never needs
-	 * one, and at 10^5 cells the pattern costs more than the step); held,
-	 * the Hessian in x (hxs, pattern of this junction); its complete
-	 * shifted Cholesky factor (ch) or the Schwarz one (sw, free only). */
-	hessian_sparse *hs;
-	spsym *hxs;
-	spchol *ch;
-	pcschwarz *sw;
-	/* The assembly of hxs from hs->h, made once per pattern (held_pattern):
-	 * term k adds h->val[tq[k]] times the weights tw[k] (two of 1, -sin t
-	 * and cos t, coded 3 ki + kj) into hxs->val[tp[k]]. */
-	int *tq, *tp;
-	unsigned char *tw;
-	long nterm;
-	double shift;         /* the last shift used */
-	int have;             /* ch or sw holds a factor */
-	double pcmem;         /* min_opts.pcmem */
-	min_pckind kind;      /* which (never AUTO once the first is built) */
-	int pcblock, overlap; /* min_opts.pcblock, pcoverlap */
-	int threads;          /* min_opts.threads, where the tissue is large
-	                         enough for them (thread_min) */
-	int hs_threads, thread_min;  /* min_opts.threads and thread_min, for hs */
-	double *pr, *pg;      /* held: coordinates and gradient at the build */
-	/* Held: the factors built for this junction (up to RELAX_NKEPT) and
-	 * the held length of each, for the return legs (held_switch). */
-	struct kept {
-		double l, shift;
-		spchol_saved *f;
-	} kept[RELAX_NKEPT];
-	int nkept;
-	int nfresh;           /* points still to start with a fresh factor */
-	int pcnext;           /* build a factor at the next point's start */
-	double pcl;           /* held length where the factor held was built */
-	int pck;              /* its entry in kept, or -1 */
-	/* Held: the last solve, input and output (n each): Newton-CG asks
-	 * for M^{-1} g to see whether M exists and then for M^{-1} (-g),
-	 * which is the same up to sign, bit for bit. */
-	double *sin_, *sout;
-	int svalid;
-	/* Gauss-Newton on the residuals (gn_*): R_2k = sqrt(ka) (A_k - 1),
-	 * R_2k+1 = P_k - p0 (W = |R|^2), J = dR/dx, one slot per distinct
-	 * variable of a cell (its rows share them); a frustrated cell has
-	 * instead one row per slot, its Newton model (gn_newton_rows). */
-	struct gn {
-		int m;            /* rows */
-		int nfr;          /* frustrated cells given Newton rows */
-		int *sp;          /* nc + 1: cell k's slots sp[k] .. sp[k+1] */
-		int *roff;        /* nc + 1: its rows roff[k] .. roff[k+1] */
-		long *eoff;       /* nc + 1: its entries in jv, row by row */
-		int *col;         /* per slot: its variable */
-		int *scell;       /* per slot: its cell */
-		int *tslot;       /* per corner coordinate (2 per corner): up to
-		                     two (slot, weight code) terms, -1 for none */
-		unsigned char *tw;
-		double *jv;       /* J: cell k's row a, slot s0 + i at
-		                     eoff[k] + a (sp[k+1] - sp[k]) + i */
-		spsym *k;         /* J J^T + lambda I (m x m) */
-		spchol *ch;
-		long *kpoff;      /* per pair of a variable's slots: its places
-		                     in kpos, rows by rows of the two cells */
-		int *kpos;        /* places in k, -1 for a duplicate */
-		int *cptr, *cslot;/* per variable: its slots */
-		long npair;
-		double *R, *y, *e, *z, *p, *q;  /* m each: R, y and the
-		                  solve's residual, preconditioned residual,
-		                  direction and product */
-		double *r;        /* held: the coordinates of x */
-		double *fbuf;     /* a frustrated cell's scratch */
-		int nkmax;
-		int ok;           /* built for the held junction (or free) */
-		int have;         /* ch holds a factor (of this or an earlier K) */
-		long nstale;      /* CG iterations with the factor held since it
-		                     was made */
-	} gn;
-	long gnfactor;        /* J J^T factorizations over the work space's
-	                         life (gn is remade for each held junction) */
-	double ftol;          /* min_opts.ftol */
-	double prox;          /* min_opts.prox: weight of |x - x0|^2 / 2 */
-	const double *x0;     /* its centre (the mesh's coordinates) */
-	/* The watch: from the lwatch-th evaluation or product on, a junction
-	 * shorter than lstop ends the minimization (halt, min_run's stop),
-	 * as do the caller's stops. */
-	double lstop;
-	long lwatch, npeval;
-	int jzero;            /* the junction found below lstop, or -1 */
-	volatile sig_atomic_t *ustop;        /* min_opts.stop */
-	const volatile sig_atomic_t *ustop2; /* relax_solve's */
-	volatile sig_atomic_t halt;
-};
-
-static void gn_free(struct gn *g);
 
 static void work_free(relax_work *w)
 {
@@ -170,7 +45,7 @@ static void work_free(relax_work *w)
 		spchol_saved_free(w->kept[k].f);
 	free(w->sin_);
 	free(w->sout);
-	gn_free(&w->gn);
+	relax_gn_free(&w->gn);
 	free(w);
 }
 
@@ -181,16 +56,6 @@ void relax_work_free(relax_work *w)
 
 /* ---- the objective ---- */
 
-/* x (angle slot holding t) -> full coordinates r. */
-static void x_to_r(const relax_work *w, const double *x, double t, double *r)
-{
-	int b = w->b, nv = w->nv;
-	memcpy(r, x, 2 * (size_t)b * sizeof *r);
-	memcpy(r + 2 * b + 2, x + 2 * b, 2 * (size_t)(nv - b - 1) * sizeof *r);
-	r[2 * b] = r[2 * w->a] + w->l * cos(t) - w->jx;
-	r[2 * b + 1] = r[2 * w->a + 1] + w->l * sin(t) - w->jy;
-}
-
 static void r_to_x(const relax_work *w, const double *r, double t, double *x)
 {
 	int b = w->b, nv = w->nv;
@@ -198,9 +63,6 @@ static void r_to_x(const relax_work *w, const double *r, double t, double *x)
 	memcpy(x + 2 * b, r + 2 * b + 2, 2 * (size_t)(nv - b - 1) * sizeof *x);
 	x[2 * nv - 2] = t;
 }
-
-/* Index of vertex v's pair in x (v != b). */
-static int xi(const relax_work *w, int v) { return v < w->b ? 2 * v : 2 * v - 2; }
 
 /* After an evaluation at r (the energy work space's lengths are r's):
  * the caller's stops, and a junction shorter than lstop once the watch
@@ -246,14 +108,14 @@ static double objective(const double *x, double *gx, void *data)
 		return w->eW;
 	}
 	double t = x[n - 1] / w->l;
-	x_to_r(w, x, t, w->r);
+	relax_x_to_r(w, x, t, w->r);
 	double W = mesh_energy(w->m, w->r, w->p, w->g, w->ew);
 	++w->npeval;
 	watch(w);
 	const double *g = w->g;
 	memcpy(gx, g, 2 * (size_t)b * sizeof *gx);
 	memcpy(gx + 2 * b, g + 2 * b + 2, 2 * (size_t)(w->nv - b - 1) * sizeof *gx);
-	int ia = xi(w, w->a);
+	int ia = relax_xi(w, w->a);
 	gx[ia] += g[2 * b];
 	gx[ia + 1] += g[2 * b + 1];
 	gx[n - 1] = -g[2 * b] * sin(t) + g[2 * b + 1] * cos(t);
@@ -313,7 +175,7 @@ static void hessvec(const double *x, const double *v, double *hv, void *data)
 				memcpy(w->hr, w->r, 2 * (size_t)nv * sizeof *w->hr);
 				memcpy(w->hg, w->g, 2 * (size_t)nv * sizeof *w->hg);
 			} else {
-				x_to_r(w, x, x[n - 1] / w->l, w->hr);
+				relax_x_to_r(w, x, x[n - 1] / w->l, w->hr);
 				mesh_energy(w->m, w->hr, w->p, w->hg, w->ew);
 			}
 			r = w->hr;
@@ -331,7 +193,7 @@ static void hessvec(const double *x, const double *v, double *hv, void *data)
 				hv[i] += w->prox * v[i];
 		return;
 	}
-	int a = w->a, b = w->b, ia = xi(w, a);
+	int a = w->a, b = w->b, ia = relax_xi(w, a);
 	double t = x[n - 1] / w->l, ct = cos(t), st = sin(t);
 	double *vr = w->hvr, *hr = w->hhr;
 	memcpy(vr, v, 2 * (size_t)b * sizeof *vr);
@@ -445,25 +307,6 @@ static pcschwarz *make_schwarz(const relax_work *w, const double *x)
 	return sw;
 }
 
-/* Held: the variables x of r-coordinate i (vertex v = i/2): itself, or
- * for v = b, r_b = r_a + l e(t) - jimg: x_a's coordinate with weight 1
- * and s with weight u_d, u = (-sin t, cos t).  Returns how many (1 or 2);
- * wt gets the weights' codes, 0 for 1, 1 for -sin t, 2 for cos t. */
-static int xmap(const relax_work *w, int i, int X[2], int wt[2])
-{
-	int v = i / 2, d = i % 2;
-	if (v != w->b) {
-		X[0] = xi(w, v) + d;
-		wt[0] = 0;
-		return 1;
-	}
-	X[0] = xi(w, w->a) + d;
-	wt[0] = 0;
-	X[1] = w->n - 1;
-	wt[1] = d == 0 ? 1 : 2;
-	return 2;
-}
-
 /* Held: the pattern of H_x = J^T H J (+ the (s, s) curvature): H's
  * pattern with b's rows and columns folded onto a's and s's.  H_x(X, Y) =
  * sum over ordered pairs (i, j) of r-coordinates of H_ij J_iX J_jY, each
@@ -480,7 +323,7 @@ static int held_pattern(relax_work *w)
 	for (int j = 0; j < h->n; j++)
 		for (int q = h->colp[j]; q < h->colp[j + 1]; q++) {
 			int Xi[2], Xj[2], wi[2], wj[2];
-			int ni = xmap(w, h->rowi[q], Xi, wi), nj = xmap(w, j, Xj, wj);
+			int ni = relax_xmap(w, h->rowi[q], Xi, wi), nj = relax_xmap(w, j, Xj, wj);
 			for (int u = 0; u < ni; u++)
 				for (int v = 0; v < nj; v++) {
 					ij[2 * np] = Xi[u];
@@ -509,7 +352,7 @@ static int held_pattern(relax_work *w)
 	for (int j = 0; j < h->n; j++)
 		for (int q = h->colp[j]; q < h->colp[j + 1]; q++) {
 			int i = h->rowi[q], Xi[2], Xj[2], wi[2], wj[2];
-			int ni = xmap(w, i, Xi, wi), nj = xmap(w, j, Xj, wj);
+			int ni = relax_xmap(w, i, Xi, wi), nj = relax_xmap(w, j, Xj, wj);
 			for (int u = 0; u < ni; u++)
 				for (int v = 0; v < nj; v++)
 					for (int mirror = 0; mirror <= (i != j); mirror++) {
@@ -575,7 +418,7 @@ static void held_hessian(relax_work *w, const double *x)
 {
 	int n = w->n;
 	double t = x[n - 1] / w->l, ct = cos(t), st = sin(t);
-	x_to_r(w, x, t, w->pr);
+	relax_x_to_r(w, x, t, w->pr);
 	mesh_energy(w->m, w->pr, w->p, w->pg, w->ew);
 	mesh_hessian_sparse(w->m, w->pr, w->p, w->hs);
 	const double *hv = w->hs->h->val;
@@ -703,611 +546,6 @@ static int pcapply(const double *r, double *z, void *data)
 	return 0;
 }
 
-/* ---- Gauss-Newton on the residuals ---- */
-
-static void gn_free(struct gn *g)
-{
-	free(g->sp);
-	free(g->roff);
-	free(g->eoff);
-	free(g->col);
-	free(g->tslot);
-	free(g->tw);
-	free(g->jv);
-	spsym_free(g->k);
-	spchol_free(g->ch);
-	free(g->kpoff);
-	free(g->kpos);
-	free(g->cptr);
-	free(g->cslot);
-	free(g->scell);
-	free(g->R);
-	free(g->y);
-	free(g->e);
-	free(g->z);
-	free(g->p);
-	free(g->q);
-	free(g->r);
-	free(g->fbuf);
-	*g = (struct gn){ 0 };
-}
-
-/* The variables of r-coordinate i: itself (free) or xmap's (held). */
-static int vmap(const relax_work *w, int i, int X[2], int wt[2])
-{
-	if (!w->held) {
-		X[0] = i;
-		wt[0] = 0;
-		return 1;
-	}
-	return xmap(w, i, X, wt);
-}
-
-/* Whether cell k gets Newton rows: a frustrated cell (geom.h) cannot
- * reach zero residuals, and Gauss-Newton, which models them as reaching
- * zero, converges only linearly there (bench/RESULTS.md: a square in a
- * tissue floppy at p0 3.86).  Not a cell with a corner at the held
- * junction's vertex b, whose map to the variables is not linear. */
-static int gn_frustrated(const relax_work *w, int k)
-{
-	const mesh *m = w->m;
-	int nk = m->coff[k + 1] - m->coff[k];
-	if (nk > GN_NKSTACK || !cell_frustrated(m, k, w->p->p0))
-		return 0;
-	for (int c = m->coff[k]; c < m->coff[k + 1]; c++)
-		if (w->held && m->cv[c] == w->b)
-			return 0;
-	return 1;
-}
-
-/* The slots of every cell, its rows (2, or one per slot for a frustrated
- * cell: gn_newton_rows), the terms of each corner coordinate, the pattern
- * of J J^T (rows of cells sharing a variable) and its analysis: once per
- * topology and held junction.  Frustrated cells are given Newton rows
- * only while they are few (at most RELAX_FR_MAX of the cells): where most
- * cells are frustrated the tissue is rigid, not Gauss-Newton's case, and
- * rows for all would make J J^T six times larger. */
-static int gn_pattern(relax_work *w)
-{
-	const mesh *m = w->m;
-	struct gn *g = &w->gn;
-	gn_free(g);
-	int nc = m->nc, ncorner = m->coff[nc], n = w->n;
-	g->sp = malloc(((size_t)nc + 1) * sizeof *g->sp);
-	g->roff = malloc(((size_t)nc + 1) * sizeof *g->roff);
-	g->eoff = malloc(((size_t)nc + 1) * sizeof *g->eoff);
-	g->col = malloc((3 * (size_t)ncorner + 2) * sizeof *g->col);
-	g->tslot = malloc((4 * (size_t)ncorner + 1) * sizeof *g->tslot);
-	g->tw = malloc((4 * (size_t)ncorner + 1) * sizeof *g->tw);
-	g->r = malloc((2 * (size_t)w->nv + 1) * sizeof *g->r);
-	g->cptr = calloc((size_t)n + 2, sizeof *g->cptr);
-	if (!g->sp || !g->roff || !g->eoff || !g->col || !g->tslot || !g->tw || !g->r || !g->cptr)
-		return MESH_ENOMEM;
-	int ns = 0, nfr = 0, nkmax = 0;
-	for (int k = 0; k < nc; k++)
-		nfr += gn_frustrated(w, k);
-	int rows = nfr > 0 && nfr <= RELAX_FR_MAX * nc;
-	g->roff[0] = 0;
-	g->eoff[0] = 0;
-	for (int k = 0; k < nc; k++) {
-		g->sp[k] = ns;
-		for (int c = m->coff[k]; c < m->coff[k + 1]; c++)
-			for (int d = 0; d < 2; d++) {
-				int X[2], wt[2], nt = vmap(w, 2 * m->cv[c] + d, X, wt);
-				int q = 2 * c + d;
-				g->tslot[2 * q + 1] = -1;
-				for (int t = 0; t < nt; t++) {
-					int sl = g->sp[k];
-					while (sl < ns && g->col[sl] != X[t])
-						sl++;
-					if (sl == ns)
-						g->col[ns++] = X[t];
-					g->tslot[2 * q + t] = sl;
-					g->tw[2 * q + t] = (unsigned char)wt[t];
-				}
-			}
-		int nsk = ns - g->sp[k], nr = rows && gn_frustrated(w, k) ? nsk : 2;
-		if (nr != 2) {
-			g->nfr++;
-			int nk = m->coff[k + 1] - m->coff[k];
-			nkmax = nk > nkmax ? nk : nkmax;
-		}
-		g->roff[k + 1] = g->roff[k] + nr;
-		g->eoff[k + 1] = g->eoff[k] + (long)nr * nsk;
-	}
-	g->sp[nc] = ns;
-	g->m = g->roff[nc];
-	g->R = malloc(((size_t)g->m + 1) * sizeof *g->R);
-	g->y = malloc(((size_t)g->m + 1) * sizeof *g->y);
-	g->e = malloc(((size_t)g->m + 1) * sizeof *g->e);
-	g->z = malloc(((size_t)g->m + 1) * sizeof *g->z);
-	g->p = malloc(((size_t)g->m + 1) * sizeof *g->p);
-	g->q = malloc(((size_t)g->m + 1) * sizeof *g->q);
-	g->jv = malloc(((size_t)g->eoff[nc] + 1) * sizeof *g->jv);
-	g->cslot = malloc(((size_t)ns + 1) * sizeof *g->cslot);
-	/* a frustrated cell's scratch: corner gradient and Hessian (2 nk,
-	 * (2 nk)^2), slot gradient, Hessian, eigenvalues (2 nk, (2 nk)^2,
-	 * 2 nk) and dsyev's work */
-	g->nkmax = nkmax;
-	size_t d2 = 2 * (size_t)nkmax;
-	g->fbuf = malloc((3 * d2 + 3 * d2 * d2 + 1) * sizeof *g->fbuf);
-
-	int *scell = malloc(((size_t)ns + 1) * sizeof *scell);
-	if (!g->R || !g->y || !g->e || !g->z || !g->p || !g->q || !g->jv || !g->cslot ||
-	    !g->fbuf || !scell) {
-		free(scell);
-		return MESH_ENOMEM;
-	}
-	for (int k = 0; k < nc; k++)
-		for (int sl = g->sp[k]; sl < g->sp[k + 1]; sl++)
-			scell[sl] = k;
-	/* each variable's slots, by counting */
-	for (int sl = 0; sl < ns; sl++)
-		g->cptr[g->col[sl] + 1]++;
-	for (int c = 0; c < n; c++)
-		g->cptr[c + 1] += g->cptr[c];
-	int *fill = malloc(((size_t)n + 1) * sizeof *fill);
-	if (fill == NULL) {
-		free(scell);
-		return MESH_ENOMEM;
-	}
-	memcpy(fill, g->cptr, (size_t)n * sizeof *fill);
-	for (int sl = 0; sl < ns; sl++)
-		g->cslot[fill[g->col[sl]]++] = sl;
-	free(fill);
-	/* per pair of a variable's slots (e <= f): the rows of e's cell
-	 * against those of f's, nr_e nr_f places */
-	long np = 0, nplace = 0;
-	for (int c = 0; c < n; c++) {
-		long L = g->cptr[c + 1] - g->cptr[c];
-		np += L * (L + 1) / 2;
-	}
-	g->npair = np;
-	g->kpoff = malloc(((size_t)np + 1) * sizeof *g->kpoff);
-	if (g->kpoff == NULL) {
-		free(scell);
-		return MESH_ENOMEM;
-	}
-	long q = 0;
-	for (int c = 0; c < n; c++)
-		for (int e = g->cptr[c]; e < g->cptr[c + 1]; e++)
-			for (int f = e; f < g->cptr[c + 1]; f++) {
-				int ke = scell[g->cslot[e]], kf = scell[g->cslot[f]];
-				g->kpoff[q++] = nplace;
-				nplace += (long)(g->roff[ke + 1] - g->roff[ke]) * (g->roff[kf + 1] - g->roff[kf]);
-			}
-	g->kpoff[np] = nplace;
-	int *ij = malloc((2 * (size_t)nplace + 2) * sizeof *ij);
-	g->kpos = malloc(((size_t)nplace + 1) * sizeof *g->kpos);
-	if (ij == NULL || g->kpos == NULL || nplace > INT_MAX) {
-		free(ij);
-		free(scell);
-		return MESH_ENOMEM;
-	}
-	q = 0;
-	long t = 0;
-	for (int c = 0; c < n; c++)
-		for (int e = g->cptr[c]; e < g->cptr[c + 1]; e++)
-			for (int f = e; f < g->cptr[c + 1]; f++, q++) {
-				int ke = scell[g->cslot[e]], kf = scell[g->cslot[f]];
-				for (int a = g->roff[ke]; a < g->roff[ke + 1]; a++)
-					for (int b = g->roff[kf]; b < g->roff[kf + 1]; b++, t++) {
-						ij[2 * t] = a;
-						ij[2 * t + 1] = b;
-					}
-			}
-	g->k = spsym_alloc(g->m, (int)nplace, ij);
-	free(ij);
-	if (g->k == NULL) {
-		free(scell);
-		return MESH_ENOMEM;
-	}
-	/* a slot against itself: each pair of its cell's rows once */
-	q = 0;
-	t = 0;
-	for (int c = 0; c < n; c++)
-		for (int e = g->cptr[c]; e < g->cptr[c + 1]; e++)
-			for (int f = e; f < g->cptr[c + 1]; f++, q++) {
-				int ke = scell[g->cslot[e]], kf = scell[g->cslot[f]];
-				for (int a = g->roff[ke]; a < g->roff[ke + 1]; a++)
-					for (int b = g->roff[kf]; b < g->roff[kf + 1]; b++, t++)
-						g->kpos[t] = e == f && a > b ? -1 : spsym_find(g->k, a, b);
-			}
-	g->scell = scell;
-	if ((g->ch = spchol_analyze(g->k)) == NULL)
-		return MESH_ENOMEM;
-	g->ok = 1;
-	return MESH_OK;
-}
-
-/* The eigenvalues ev and eigenvectors (columns of z, row-major) of the
- * symmetric n x n matrix a (overwritten), by cyclic Jacobi rotations to
- * rounding.  Hand-written for the 8 x 8 blocks of gn_newton_rows: GSL's
- * and LAPACK's solvers call OpenBLAS, whose threads then spin (45 % of a
- * sweep's CPU, measured in sched_yield).  0, or -1 if it did not
- * converge in 50 sweeps. */
-static int gn_eigen(double *a, int n, double *ev, double *z)
-{
-	for (int i = 0; i < n; i++)
-		for (int j = 0; j < n; j++)
-			z[i * n + j] = i == j;
-	for (int sweep = 0; sweep < 50; sweep++) {
-		double off = 0, dg = 0;
-		for (int i = 0; i < n; i++) {
-			dg += a[i * n + i] * a[i * n + i];
-			for (int j = i + 1; j < n; j++)
-				off += a[i * n + j] * a[i * n + j];
-		}
-		if (off <= 1e-32 * dg || off == 0) {
-			for (int i = 0; i < n; i++)
-				ev[i] = a[i * n + i];
-			return 0;
-		}
-		for (int p = 0; p < n; p++)
-			for (int q = p + 1; q < n; q++) {
-				double apq = a[p * n + q];
-				if (apq == 0)
-					continue;
-				double th = (a[q * n + q] - a[p * n + p]) / (2 * apq);
-				double t = (th >= 0 ? 1 : -1) / (fabs(th) + sqrt(th * th + 1));
-				double c = 1 / sqrt(t * t + 1), s = t * c;
-				for (int k = 0; k < n; k++) {
-					double akp = a[k * n + p], akq = a[k * n + q];
-					a[k * n + p] = c * akp - s * akq;
-					a[k * n + q] = s * akp + c * akq;
-				}
-				for (int k = 0; k < n; k++) {
-					double apk = a[p * n + k], aqk = a[q * n + k];
-					a[p * n + k] = c * apk - s * aqk;
-					a[q * n + k] = s * apk + c * aqk;
-				}
-				for (int k = 0; k < n; k++) {
-					double zkp = z[k * n + p], zkq = z[k * n + q];
-					z[k * n + p] = c * zkp - s * zkq;
-					z[k * n + q] = s * zkp + c * zkq;
-				}
-			}
-	}
-	return -1;
-}
-
-/* A frustrated cell's rows: its energy W_k = ka (A - 1)^2 + (P - p0)^2
- * to second order in its slots, g.s + s.H.s/2, written as |c + B s|^2 -
- * |c|^2 with B^T B = H+/2 and B^T c = g/2, H+ the Hessian with its
- * eigenvalues below GN_FR_EIG of the largest dropped (the area term is
- * indefinite; the rigid motions are zero).  With these rows in place of
- * the cell's two residuals the Gauss-Newton step is Newton's for that
- * cell: the step converges quadratically to a minimum where the cell
- * keeps W > 0 and the rest of the tissue is floppy, where with the
- * residuals it converges linearly.  (cx, cy) the corners' coordinates
- * (images applied); 0, or -1 if the eigensolver failed. */
-#define GN_FR_EIG 1e-10
-static int gn_newton_rows(relax_work *w, int k, const double *cx, const double *cy)
-{
-	const mesh *m = w->m;
-	struct gn *g = &w->gn;
-	int c0 = m->coff[k], nk = m->coff[k + 1] - c0, d = 2 * nk;
-	int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
-	double ka = w->p->ka, p0 = w->p->p0;
-	double *gc = g->fbuf, *hc = gc + d, *gs = hc + d * d, *hs = gs + d, *ev = hs + d * d;
-	double *work = ev + d;
-	double A = 0, P = 0;
-	memset(gc, 0, (size_t)d * sizeof *gc);
-	memset(hc, 0, (size_t)d * d * sizeof *hc);
-	double *dA = gs, *dP = ev;  /* scratch until the slot arrays are made */
-	memset(dA, 0, (size_t)d * sizeof *dA);
-	memset(dP, 0, (size_t)d * sizeof *dP);
-	for (int i = 0; i < nk; i++) {
-		int in = (i + 1) % nk, ip = (i + nk - 1) % nk;
-		A += 0.5 * (cx[i] * cy[in] - cx[in] * cy[i]);
-		dA[2 * i] = 0.5 * (cy[in] - cy[ip]);
-		dA[2 * i + 1] = 0.5 * (cx[ip] - cx[in]);
-		double ex = cx[in] - cx[i], ey = cy[in] - cy[i], L = hypot(ex, ey);
-		double ux = ex / L, uy = ey / L;
-		P += L;
-		dP[2 * i] -= ux;
-		dP[2 * i + 1] -= uy;
-		dP[2 * in] += ux;
-		dP[2 * in + 1] += uy;
-	}
-	double ta = 2 * ka * (A - 1), tp = 2 * (P - p0);
-	for (int i = 0; i < nk; i++) {
-		int in = (i + 1) % nk;
-		double ex = cx[in] - cx[i], ey = cy[in] - cy[i], L = hypot(ex, ey);
-		double ux = ex / L, uy = ey / L;
-		/* the perimeter's curvature: (I - u u^T) / L on the edge's
-		 * difference */
-		double M[2][2] = { { (1 - ux * ux) / L, -ux * uy / L }, { -ux * uy / L, (1 - uy * uy) / L } };
-		for (int a = 0; a < 2; a++)
-			for (int b = 0; b < 2; b++) {
-				double v = tp * M[a][b];
-				hc[(2 * i + a) * d + 2 * i + b] += v;
-				hc[(2 * in + a) * d + 2 * in + b] += v;
-				hc[(2 * i + a) * d + 2 * in + b] -= v;
-				hc[(2 * in + a) * d + 2 * i + b] -= v;
-			}
-		/* the area's: d2A / dx_i dy_in = 1/2, d2A / dy_i dx_in = -1/2 */
-		hc[(2 * i) * d + 2 * in + 1] += 0.5 * ta;
-		hc[(2 * in + 1) * d + 2 * i] += 0.5 * ta;
-		hc[(2 * i + 1) * d + 2 * in] -= 0.5 * ta;
-		hc[(2 * in) * d + 2 * i + 1] -= 0.5 * ta;
-	}
-	for (int a = 0; a < d; a++) {
-		gc[a] = ta * dA[a] + tp * dP[a];
-		for (int b = 0; b < d; b++)
-			hc[a * d + b] += 2 * ka * dA[a] * dA[b] + 2 * dP[a] * dP[b];
-	}
-	/* to the slots: a cell not at b maps each corner coordinate to one
-	 * slot with weight 1 (gn_frustrated) */
-	memset(gs, 0, (size_t)nsk * sizeof *gs);
-	memset(hs, 0, (size_t)nsk * nsk * sizeof *hs);
-	for (int a = 0; a < d; a++) {
-		int sa = g->tslot[2 * (2 * c0 + a)] - s0;
-		gs[sa] += gc[a];
-		for (int b = 0; b < d; b++)
-			hs[sa * nsk + g->tslot[2 * (2 * c0 + b)] - s0] += hc[a * d + b];
-	}
-	if (gn_eigen(hs, nsk, ev, work) != 0)
-		return -1;
-	double emax = 0;
-	for (int a = 0; a < nsk; a++)
-		emax = fmax(emax, ev[a]);
-	double *jv = g->jv + g->eoff[k], *R = g->R + g->roff[k];
-	for (int a = 0; a < nsk; a++) {
-		double b = ev[a] > GN_FR_EIG * emax ? sqrt(0.5 * ev[a]) : 0, vg = 0;
-		for (int j = 0; j < nsk; j++) {
-			double v = work[j * nsk + a];  /* eigenvector a: column a */
-			jv[a * nsk + j] = b * v;
-			vg += v * gs[j];
-		}
-		R[a] = b > 0 ? 0.5 * vg / b : 0;
-	}
-	return 0;
-}
-
-/* R and J at x (a frustrated cell's rows: gn_newton_rows).  0, or -1. */
-static int gn_jacobian(relax_work *w, const double *x)
-{
-	const mesh *m = w->m;
-	struct gn *g = &w->gn;
-	const double *r = x;
-	double wt[3] = { 1, 0, 0 };
-	if (w->held) {
-		double t = x[w->n - 1] / w->l;
-		x_to_r(w, x, t, g->r);
-		r = g->r;
-		wt[1] = -sin(t);
-		wt[2] = cos(t);
-	}
-	double ska = sqrt(w->p->ka), p0 = w->p->p0;
-	for (int k = 0; k < m->nc; k++) {
-		int c0 = m->coff[k], nk = m->coff[k + 1] - c0;
-		if (g->roff[k + 1] - g->roff[k] != 2) {
-			double cx[GN_NKSTACK], cy[GN_NKSTACK];
-			if (nk > GN_NKSTACK)
-				return -1;
-			for (int i = 0; i < nk; i++) {
-				cx[i] = r[2 * m->cv[c0 + i]] + m->cimg[2 * (c0 + i)];
-				cy[i] = r[2 * m->cv[c0 + i] + 1] + m->cimg[2 * (c0 + i) + 1];
-			}
-			if (gn_newton_rows(w, k, cx, cy) != 0)
-				return -1;
-			continue;
-		}
-		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
-		double *ja = g->jv + g->eoff[k], *jp = ja + nsk;
-		for (int sl = 0; sl < nsk; sl++)
-			ja[sl] = jp[sl] = 0;
-		double A = 0, P = 0;
-		for (int i = 0; i < nk; i++) {
-			int cp = c0 + (i + nk - 1) % nk, cc = c0 + i, cn = c0 + (i + 1) % nk;
-			double xp = r[2 * m->cv[cp]] + m->cimg[2 * cp], yp = r[2 * m->cv[cp] + 1] + m->cimg[2 * cp + 1];
-			double xc = r[2 * m->cv[cc]] + m->cimg[2 * cc], yc = r[2 * m->cv[cc] + 1] + m->cimg[2 * cc + 1];
-			double xn = r[2 * m->cv[cn]] + m->cimg[2 * cn], yn = r[2 * m->cv[cn] + 1] + m->cimg[2 * cn + 1];
-			A += 0.5 * (xc * yn - xn * yc);
-			double lp = hypot(xc - xp, yc - yp), ln = hypot(xn - xc, yn - yc);
-			P += ln;
-			double da[2] = { 0.5 * (yn - yp), 0.5 * (xp - xn) };
-			double dp[2] = { (xc - xp) / lp - (xn - xc) / ln, (yc - yp) / lp - (yn - yc) / ln };
-			for (int d = 0; d < 2; d++) {
-				int q = 2 * cc + d;
-				for (int t = 0; t < 2; t++) {
-					int sl = g->tslot[2 * q + t];
-					if (sl < 0)
-						continue;
-					double u = wt[g->tw[2 * q + t]];
-					ja[sl - s0] += ska * da[d] * u;
-					jp[sl - s0] += dp[d] * u;
-				}
-			}
-		}
-		g->R[g->roff[k]] = ska * (A - 1);
-		g->R[g->roff[k] + 1] = P - p0;
-	}
-	return 0;
-}
-
-/* y = (J J^T + lambda I)^{-1} R by conjugate gradients on K = J J^T +
- * lambda I preconditioned by the factor held, which solves in single
- * precision and may be of an earlier K (the last point's: a sweep's J
- * changes little from point to point), to a residual |R - K y| of
- * GN_RTOL |R|.  The step s = -J^T y then leaves |R + J s| within lambda
- * |y| + GN_RTOL |R| of zero to first order, a millionth of the residual
- * the step starts from (tolerances of 1e-8 and 1e-10 take the same
- * Gauss-Newton steps on disordered-1 at p0 3.86, 1e-4 more).  With a
- * fresh factor CG takes one or two iterations; with a stale one, where
- * iterative refinement (Richardson's iteration on the same factor)
- * failed at 350 of 351 steps (junction 196 of disordered-1 at 3.86), it
- * converges at most steps in 4 to 20.  A stale
- * factor gets GN_STALE_CG iterations: 0 when they reach the tolerance,
- * -1 when not (then the caller factors K); with a fresh one, the best
- * it gets in GN_FRESH_CG. */
-#define GN_RTOL 1e-6
-#define GN_FR_ETA 0.1
-#define GN_FR_FTOL 0.01
-#define GN_STALE_CG 12
-#define GN_FRESH_CG 20
-static int gn_solve(struct gn *g, int fresh, double rtol, double eabs)
-{
-	const int m = g->m, cap = fresh ? GN_FRESH_CG : GN_STALE_CG;
-	double *r = g->e, *z = g->z, *p = g->p, *q = g->q;
-	double rr0 = 0, rz = 0;
-	for (int i = 0; i < m; i++) {
-		g->y[i] = 0;
-		r[i] = g->R[i];
-		rr0 += r[i] * r[i];
-	}
-	if (rr0 == 0)
-		return 0;
-	spchol_solve(g->ch, r, z);
-	for (int i = 0; i < m; i++) {
-		p[i] = z[i];
-		rz += r[i] * z[i];
-	}
-	for (int it = 0; it < cap; it++) {
-		g->nstale += !fresh;
-		spsym_mulvec(g->k, p, q);
-		double pq = 0, rr = 0;
-		for (int i = 0; i < m; i++)
-			pq += p[i] * q[i];
-		if (!(pq > 0 && rz > 0))
-			break;
-		double al = rz / pq;
-		for (int i = 0; i < m; i++) {
-			g->y[i] += al * p[i];
-			r[i] -= al * q[i];
-			rr += r[i] * r[i];
-		}
-		if (rr <= rtol * rtol * rr0 || rr <= eabs * eabs)
-			return 0;
-		spchol_solve(g->ch, r, z);
-		double rzn = 0;
-		for (int i = 0; i < m; i++)
-			rzn += r[i] * z[i];
-		for (int i = 0; i < m; i++)
-			p[i] = z[i] + rzn / rz * p[i];
-		rz = rzn;
-	}
-	return fresh ? 0 : -1;
-}
-
-/* The Levenberg-Marquardt step of W = |R|^2 at x: s = -(J^T J + lambda
- * I)^{-1} J^T R = -J^T (J J^T + lambda I)^{-1} R (the m x m form: about
- * 2 nc rows against 2 nv variables), and the model's terms pd[0] = 2
- * R.Js, pd[1] = |J s|^2 (with a frustrated cell's rows the model is
- * Newton's for that cell: gn_newton_rows).  0, or nonzero when J J^T +
- * lambda I is not numerically positive definite. */
-static int gnstep(const double *x, double lambda, double *s, double pd[2], void *data)
-{
-	relax_work *w = data;
-	struct gn *g = &w->gn;
-	const mesh *m = w->m;
-	if (!g->ok && gn_pattern(w) != MESH_OK)
-		return -1;
-	if (gn_jacobian(w, x) != 0)
-		return -1;
-	spsym_zero(g->k);
-	long q = 0;
-	for (int c = 0; c < w->n; c++)
-		for (int e = g->cptr[c]; e < g->cptr[c + 1]; e++) {
-			int se = g->cslot[e], ke = g->scell[se];
-			int ne = g->sp[ke + 1] - g->sp[ke], re = g->roff[ke + 1] - g->roff[ke];
-			const double *je = g->jv + g->eoff[ke] + (se - g->sp[ke]);
-			for (int f = e; f < g->cptr[c + 1]; f++, q++) {
-				int sf = g->cslot[f], kf = g->scell[sf];
-				int nf = g->sp[kf + 1] - g->sp[kf], rf = g->roff[kf + 1] - g->roff[kf];
-				const double *jf = g->jv + g->eoff[kf] + (sf - g->sp[kf]);
-				const int *kp = g->kpos + g->kpoff[q];
-				for (int a = 0; a < re; a++)
-					for (int b = 0; b < rf; b++)
-						if (kp[a * rf + b] >= 0)
-							g->k->val[kp[a * rf + b]] += je[a * ne] * jf[b * nf];
-			}
-		}
-	/* lambda at least 1e-10 of the largest diagonal entry: where J J^T
-	 * turns singular (the held length at the end of the tissue's floppy
-	 * range) the solves stay accurate */
-	double floor = 1e-10 * spsym_diagmax(g->k);
-	for (int i = 0; i < g->m; i++)
-		g->k->val[g->k->colp[i]] += fmax(lambda, floor);
-	/* A stale factor serves while the CG iterations it has cost since
-	 * it was made stay below about one factorization's worth (one
-	 * costs as much as GN_STALE_CG iterations on the 324-cell samples),
-	 * the rule that wastes at most twice the least possible. */
-	/* With a frustrated cell's rows the residual does not go to zero
-	 * (its energy is balanced by forces of O(0.1)): the solve is judged
-	 * by the model's gradient it leaves, 2 J^T e for a residual e, as in
-	 * inexact Newton, to GN_FR_ETA |g|^2 (quadratic convergence) but no
-	 * further than GN_FR_FTOL of the force tolerance; without, to
-	 * GN_RTOL of the residual. */
-	double rtol = GN_RTOL, eabs = 0;
-	if (g->nfr > 0) {
-		double g2 = 0;
-		for (int i = 0; i < w->n; i++)
-			s[i] = 0;
-		for (int k = 0; k < m->nc; k++) {
-			int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
-			const double *jv = g->jv + g->eoff[k], *R = g->R + g->roff[k];
-			for (int a = 0; a < g->roff[k + 1] - g->roff[k]; a++)
-				for (int sl = 0; sl < nsk; sl++)
-					s[g->col[s0 + sl]] += 2 * jv[a * nsk + sl] * R[a];
-		}
-		for (int i = 0; i < w->n; i++)
-			g2 += s[i] * s[i];
-		rtol = 0;
-		eabs = fmax(GN_FR_FTOL * w->ftol, GN_FR_ETA * g2);
-	}
-	if (!g->have || g->nstale >= GN_STALE_CG || gn_solve(g, 0, rtol, eabs) != 0) {
-		g->have = 0;
-		g->nstale = 0;
-		w->gnfactor++;
-		if (spchol_factor(g->ch, g->k, 0) != MESH_OK)
-			return -1;
-		g->have = 1;
-		gn_solve(g, 1, rtol, eabs);
-	}
-	memset(s, 0, (size_t)w->n * sizeof *s);
-	for (int k = 0; k < m->nc; k++) {
-		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
-		const double *jv = g->jv + g->eoff[k], *y = g->y + g->roff[k];
-		int nr = g->roff[k + 1] - g->roff[k];
-		if (nr == 2) {
-			for (int sl = 0; sl < nsk; sl++)
-				s[g->col[s0 + sl]] -= jv[sl] * y[0] + jv[nsk + sl] * y[1];
-			continue;
-		}
-		for (int a = 0; a < nr; a++)
-			for (int sl = 0; sl < nsk; sl++)
-				s[g->col[s0 + sl]] -= jv[a * nsk + sl] * y[a];
-	}
-	double rjs = 0, jss = 0;
-	for (int k = 0; k < m->nc; k++) {
-		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
-		const double *jv = g->jv + g->eoff[k], *R = g->R + g->roff[k];
-		int nr = g->roff[k + 1] - g->roff[k];
-		if (nr == 2) {
-			double a = 0, b = 0;
-			for (int sl = 0; sl < nsk; sl++) {
-				a += jv[sl] * s[g->col[s0 + sl]];
-				b += jv[nsk + sl] * s[g->col[s0 + sl]];
-			}
-			rjs += R[0] * a + R[1] * b;
-			jss += a * a + b * b;
-			continue;
-		}
-		for (int a = 0; a < nr; a++) {
-			double u = 0;
-			for (int sl = 0; sl < nsk; sl++)
-				u += jv[a * nsk + sl] * s[g->col[s0 + sl]];
-			rjs += R[a] * u;
-			jss += u * u;
-		}
-	}
-	pd[0] = 2 * rjs;
-	pd[1] = jss;
-	return 0;
-}
-
 /* ---- off a saddle ---- */
 
 /* Held: a point that ends short of the tolerance with no junction run
@@ -1422,7 +660,7 @@ static void adapt(relax_work *w, min_opts *mo)
 	mo->hessvec = hessvec;
 	mo->pcsetup = pcsetup;
 	mo->pcshift = pcshift;
-	mo->gnstep = gnstep;
+	mo->gnstep = relax_gnstep;
 	w->ftol = mo->ftol;
 	mo->pcapply = pcapply;
 	w->ustop = mo->stop;
@@ -1527,14 +765,14 @@ int relax_nvar(const relax_work *w) { return w->n; }
 
 void relax_coords(const relax_work *w, double *r)
 {
-	x_to_r(w, w->x, w->x[w->n - 1], r);
+	relax_x_to_r(w, w->x, w->x[w->n - 1], r);
 }
 
 double relax_energy(relax_work *w)
 {
 	w->evalid = 0;
 	w->hvalid = 0;
-	x_to_r(w, w->x, w->x[w->n - 1], w->r);
+	relax_x_to_r(w, w->x, w->x[w->n - 1], w->r);
 	return mesh_energy(w->m, w->r, w->p, w->g, w->ew);
 }
 double *relax_x(relax_work *w) { return w->x; }
@@ -1544,7 +782,7 @@ void relax_set_length(relax_work *w, double l) { w->l = l; }
 void relax_slide(relax_work *w, double l, double dl)
 {
 	double *x = w->x, t = x[w->n - 1];
-	int ia = xi(w, w->a);
+	int ia = relax_xi(w, w->a);
 	w->l = l;
 	x[ia] -= 0.5 * dl * cos(t);
 	x[ia + 1] -= 0.5 * dl * sin(t);
