@@ -52,18 +52,12 @@ static int vmap(const relax_work *w, int i, int X[2], int wt[2])
 /* Whether cell k gets Newton rows: a frustrated cell (geom.h) cannot
  * reach zero residuals, and Gauss-Newton, which models them as reaching
  * zero, converges only linearly there (bench/RESULTS.md: a square in a
- * tissue floppy at p0 3.86).  Not a cell with a corner at the held
- * junction's vertex b, whose map to the variables is not linear. */
+ * tissue floppy at p0 3.86). */
 static int gn_frustrated(const relax_work *w, int k)
 {
 	const mesh *m = w->m;
 	int nk = m->coff[k + 1] - m->coff[k];
-	if (nk > GN_NKSTACK || !cell_frustrated(m, k, w->p->p0))
-		return 0;
-	for (int c = m->coff[k]; c < m->coff[k + 1]; c++)
-		if (w->held && m->cv[c] == w->b)
-			return 0;
-	return 1;
+	return nk <= GN_NKSTACK && cell_frustrated(m, k, w->p->p0);
 }
 
 /* The slots of every cell, its rows (2, or one per slot for a frustrated
@@ -131,11 +125,12 @@ static int gn_pattern(relax_work *w)
 	g->q = malloc(((size_t)g->m + 1) * sizeof *g->q);
 	g->jv = malloc(((size_t)g->eoff[nc] + 1) * sizeof *g->jv);
 	g->cslot = malloc(((size_t)ns + 1) * sizeof *g->cslot);
-	/* a frustrated cell's scratch: corner gradient and Hessian (2 nk,
-	 * (2 nk)^2), slot gradient, Hessian, eigenvalues (2 nk, (2 nk)^2,
-	 * 2 nk) and dsyev's work */
+	/* a frustrated cell's scratch, blocks of D = 2 nk + 1 (its slots: 2
+	 * a corner, and held with b a corner but not a, a's 2 and s for b's):
+	 * corner gradient and Hessian, slot gradient and Hessian, the
+	 * eigenvalues and eigenvectors */
 	g->nkmax = nkmax;
-	size_t d2 = 2 * (size_t)nkmax;
+	size_t d2 = 2 * (size_t)nkmax + 1;
 	g->fbuf = malloc((3 * d2 + 3 * d2 * d2 + 1) * sizeof *g->fbuf);
 
 	int *scell = malloc(((size_t)ns + 1) * sizeof *scell);
@@ -286,17 +281,20 @@ static int gn_eigen(double *a, int n, double *ev, double *z)
  * cell: the step converges quadratically to a minimum where the cell
  * keeps W > 0 and the rest of the tissue is floppy, where with the
  * residuals it converges linearly.  (cx, cy) the corners' coordinates
- * (images applied); 0, or -1 if the eigensolver failed. */
+ * (images applied), wt the weights of gn_jacobian (held: b's coordinates
+ * through a's and s); 0, or -1 if the eigensolver failed. */
 #define GN_FR_EIG 1e-10
-static int gn_newton_rows(relax_work *w, int k, const double *cx, const double *cy)
+static int gn_newton_rows(relax_work *w, int k, const double *cx, const double *cy,
+                          const double wt[3])
 {
 	const mesh *m = w->m;
 	struct gn *g = &w->gn;
 	int c0 = m->coff[k], nk = m->coff[k + 1] - c0, d = 2 * nk;
 	int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
 	double ka = w->p->ka, p0 = w->p->p0;
-	double *gc = g->fbuf, *hc = gc + d, *gs = hc + d * d, *hs = gs + d, *ev = hs + d * d;
-	double *work = ev + d;
+	const int D = 2 * g->nkmax + 1;
+	double *gc = g->fbuf, *hc = gc + D, *gs = hc + D * D, *hs = gs + D, *ev = hs + D * D;
+	double *work = ev + D;
 	double A = 0, P = 0;
 	memset(gc, 0, (size_t)d * sizeof *gc);
 	memset(hc, 0, (size_t)d * d * sizeof *hc);
@@ -343,15 +341,25 @@ static int gn_newton_rows(relax_work *w, int k, const double *cx, const double *
 		for (int b = 0; b < d; b++)
 			hc[a * d + b] += 2 * ka * dA[a] * dA[b] + 2 * dP[a] * dP[b];
 	}
-	/* to the slots: a cell not at b maps each corner coordinate to one
-	 * slot with weight 1 (gn_frustrated) */
+	/* to the slots, through each corner coordinate's terms (weights wt;
+	 * held, b's coordinates are r_a + l e(t), whose curvature in s = l t,
+	 * -e(t) / l, adds g_b . -e(t) / l to the (s, s) entry) */
 	memset(gs, 0, (size_t)nsk * sizeof *gs);
 	memset(hs, 0, (size_t)nsk * nsk * sizeof *hs);
 	for (int a = 0; a < d; a++) {
-		int sa = g->tslot[2 * (2 * c0 + a)] - s0;
-		gs[sa] += gc[a];
-		for (int b = 0; b < d; b++)
-			hs[sa * nsk + g->tslot[2 * (2 * c0 + b)] - s0] += hc[a * d + b];
+		const int qa = 2 * (2 * c0 + a);
+		for (int u = 0; u < 2 && g->tslot[qa + u] >= 0; u++) {
+			int sa = g->tslot[qa + u] - s0;
+			double wa = wt[g->tw[qa + u]];
+			gs[sa] += wa * gc[a];
+			if (u == 1)
+				hs[sa * nsk + sa] -= gc[a] * (a % 2 == 0 ? wt[2] : -wt[1]) / w->l;
+			for (int b = 0; b < d; b++) {
+				const int qb = 2 * (2 * c0 + b);
+				for (int v = 0; v < 2 && g->tslot[qb + v] >= 0; v++)
+					hs[sa * nsk + g->tslot[qb + v] - s0] += wa * wt[g->tw[qb + v]] * hc[a * d + b];
+			}
+		}
 	}
 	if (gn_eigen(hs, nsk, ev, work) != 0)
 		return -1;
@@ -396,7 +404,7 @@ static int gn_jacobian(relax_work *w, const double *x)
 				cx[i] = r[2 * m->cv[c0 + i]] + m->cimg[2 * (c0 + i)];
 				cy[i] = r[2 * m->cv[c0 + i] + 1] + m->cimg[2 * (c0 + i) + 1];
 			}
-			if (gn_newton_rows(w, k, cx, cy) != 0)
+			if (gn_newton_rows(w, k, cx, cy, wt) != 0)
 				return -1;
 			continue;
 		}
