@@ -339,6 +339,33 @@ static int flip(sweep *sw, int jt, double l)
  * o->t1, a neighbour that ran to zero length or ends shorter than o->t1
  * is flipped and the point minimized again (up to FL_T1_POINT T1s). */
 #define FL_T1_POINT 4
+
+/* The point in hand (*rp, from w->xstart) not ok: minimized once more
+ * from its start by alt, kept if that is ok or the first was not
+ * converged, the evaluations of both counted.  MESH_OK or the solver's
+ * error. */
+static int retry(sweep *sw, const min_opts *alt, relax_point *rp)
+{
+	fl_work *w = sw->w;
+	double *x = relax_x(w->rw);
+	if (rp->status == RELAX_OK || (sw->stop && *sw->stop))
+		return MESH_OK;
+	relax_point r2;
+	memcpy(w->rstart, x, (size_t)w->n * sizeof *x);
+	memcpy(x, w->xstart, (size_t)w->n * sizeof *x);
+	int st = relax_solve(w->rw, alt, sw->stop, &r2);
+	if (st == MESH_OK && (r2.status == RELAX_OK || rp->status == RELAX_NOCONV)) {
+		r2.neval += rp->neval;
+		r2.npc += rp->npc;
+		*rp = r2;
+	} else if (st == MESH_OK) {
+		rp->neval += r2.neval;
+		rp->npc += r2.npc;
+		memcpy(x, w->rstart, (size_t)w->n * sizeof *x);
+	}
+	return st;
+}
+
 static int solve_point(sweep *sw, int dir)
 {
 	fl_work *w = sw->w;
@@ -348,29 +375,23 @@ static int solve_point(sweep *sw, int dir)
 	for (int nt = 0;; nt++) {
 		memcpy(w->xstart, x, (size_t)w->n * sizeof *x);
 		int st = relax_solve(w->rw, &sw->o->min, sw->stop, &rp);
-		if (st == MESH_OK && rp.status != RELAX_OK && !(sw->stop && *sw->stop)) {
-			/* a point that ends short, or with a junction run to zero
-			 * length, is tried once more from its start by the other
-			 * method: a minimum exists where either finds one (the
-			 * paths to it differ) */
-			relax_point r2;
-			min_opts alt = sw->o->min;
-			if (alt.algo == MIN_GN)
-				alt.gn_newton = !alt.gn_newton;
-			else
-				alt.algo = alt.algo == MIN_LM ? MIN_NEWTON : MIN_LM;
-			memcpy(w->rstart, x, (size_t)w->n * sizeof *x);
-			memcpy(x, w->xstart, (size_t)w->n * sizeof *x);
-			st = relax_solve(w->rw, &alt, sw->stop, &r2);
-			if (st == MESH_OK && (r2.status == RELAX_OK || rp.status == RELAX_NOCONV)) {
-				r2.neval += rp.neval;
-				r2.npc += rp.npc;
-				rp = r2;
-			} else if (st == MESH_OK) {
-				rp.neval += r2.neval;
-				rp.npc += r2.npc;
-				memcpy(x, w->rstart, (size_t)w->n * sizeof *x);
-			}
+		/* a point that ends short, or with a junction run to zero
+		 * length, is tried once more from its start by the other
+		 * method: a minimum exists where either finds one (the paths
+		 * to it differ); after Gauss-Newton's two paths, by
+		 * Levenberg-Marquardt on the Hessian too (disordered-3 at 3.86,
+		 * junction 184: both stalled at a force of 1.1e-10 with W at
+		 * rounding, lm from the same start converges) */
+		min_opts alt = sw->o->min;
+		if (alt.algo == MIN_GN)
+			alt.gn_newton = !alt.gn_newton;
+		else
+			alt.algo = alt.algo == MIN_LM ? MIN_NEWTON : MIN_LM;
+		if (st == MESH_OK)
+			st = retry(sw, &alt, &rp);
+		if (st == MESH_OK && rp.status == RELAX_NOCONV && sw->o->min.algo == MIN_GN) {
+			alt.algo = MIN_LM;
+			st = retry(sw, &alt, &rp);
 		}
 		if (st != MESH_OK)
 			return st;
