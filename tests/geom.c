@@ -117,9 +117,25 @@ static int simd_same(const mesh *m, const model *p, const double *dg)
 	return same;
 }
 
+/* The least perimeter of an n-gon of area 1 against the regular n-gon's
+ * area and perimeter from its circumradius (n R^2 sin(2 pi/n) / 2 and 2 n
+ * R sin(pi/n)), and the square's 4; NaN below 3 sides. */
+static void polygon_bound(void)
+{
+	double worst = 0;
+	for (int n = 3; n <= 12; n++) {
+		const double pi = 3.14159265358979323846, R = 0.7;
+		double A = 0.5 * n * R * R * sin(2 * pi / n), P = 2 * n * R * sin(pi / n);
+		worst = fmax(worst, fabs(P / sqrt(A) - polygon_perimeter_min(n)));
+	}
+	ok(worst < 1e-13 && fabs(polygon_perimeter_min(4) - 4) < 1e-15 && isnan(polygon_perimeter_min(2)),
+	   "polygon_perimeter_min: the regular n-gon's P / sqrt(A) for n 3-12 (%.2g), 4 for a square", worst);
+}
+
 int main(void)
 {
-	tap_plan(24);
+	tap_plan(25);
+	polygon_bound();
 	mesh *m;
 	mesh_error err;
 	ok(lattice_honeycomb(18, 18, &m, &err) == MESH_OK, "18x18 honeycomb builds");
