@@ -397,9 +397,7 @@ static int gn_jacobian(relax_work *w, const double *x)
 	for (int k = 0; k < m->nc; k++) {
 		int c0 = m->coff[k], nk = m->coff[k + 1] - c0;
 		if (g->roff[k + 1] - g->roff[k] != 2) {
-			double cx[GN_NKSTACK], cy[GN_NKSTACK];
-			if (nk > GN_NKSTACK)
-				return -1;
+			double cx[GN_NKSTACK], cy[GN_NKSTACK];  /* nk fits: gn_frustrated */
 			for (int i = 0; i < nk; i++) {
 				cx[i] = r[2 * m->cv[c0 + i]] + m->cimg[2 * (c0 + i)];
 				cy[i] = r[2 * m->cv[c0 + i] + 1] + m->cimg[2 * (c0 + i) + 1];
@@ -505,6 +503,25 @@ static int gn_solve(struct gn *g, int fresh, double rtol, double eabs)
 	return fresh ? 0 : -1;
 }
 
+/* out = J^T v (n values; v one per row). */
+static void gn_jt(const relax_work *w, const double *v, double *out)
+{
+	const struct gn *g = &w->gn;
+	memset(out, 0, (size_t)w->n * sizeof *out);
+	for (int k = 0; k < w->m->nc; k++) {
+		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0, nr = g->roff[k + 1] - g->roff[k];
+		const double *jv = g->jv + g->eoff[k], *vk = v + g->roff[k];
+		if (nr == 2) {
+			for (int sl = 0; sl < nsk; sl++)
+				out[g->col[s0 + sl]] += jv[sl] * vk[0] + jv[nsk + sl] * vk[1];
+			continue;
+		}
+		for (int a = 0; a < nr; a++)
+			for (int sl = 0; sl < nsk; sl++)
+				out[g->col[s0 + sl]] += jv[a * nsk + sl] * vk[a];
+	}
+}
+
 /* The Levenberg-Marquardt step of W = |R|^2 at x: s = -(J^T J + lambda
  * I)^{-1} J^T R = -J^T (J J^T + lambda I)^{-1} R (the m x m form: about
  * 2 nc rows against 2 nv variables), and the model's terms pd[0] = 2
@@ -544,33 +561,22 @@ int relax_gnstep(const double *x, double lambda, double *s, double pd[2], void *
 	double floor = 1e-10 * spsym_diagmax(g->k);
 	for (int i = 0; i < g->m; i++)
 		g->k->val[g->k->colp[i]] += fmax(lambda, floor);
+	/* With a frustrated cell's rows the residual does not go to zero
+	 * (its energy is balanced by forces of O(0.1)): the solve is judged
+	 * by the model's gradient it leaves, 2 J^T e for a residual e, as in
+	 * inexact Newton, to GN_FR_ETA |g|^2 (quadratic convergence, g = 2
+	 * J^T R) but no further than GN_FR_FTOL of the force tolerance;
+	 * without, to GN_RTOL of the residual. */
+	double rtol = GN_RTOL, eabs = 0;
+	if (g->nfr > 0) {
+		gn_jt(w, g->R, s);
+		rtol = 0;
+		eabs = fmax(GN_FR_FTOL * w->ftol, 4 * GN_FR_ETA * sparse_dot(s, s, w->n));
+	}
 	/* A stale factor serves while the CG iterations it has cost since
 	 * it was made stay below about one factorization's worth (one
 	 * costs as much as GN_STALE_CG iterations on the 324-cell samples),
 	 * the rule that wastes at most twice the least possible. */
-	/* With a frustrated cell's rows the residual does not go to zero
-	 * (its energy is balanced by forces of O(0.1)): the solve is judged
-	 * by the model's gradient it leaves, 2 J^T e for a residual e, as in
-	 * inexact Newton, to GN_FR_ETA |g|^2 (quadratic convergence) but no
-	 * further than GN_FR_FTOL of the force tolerance; without, to
-	 * GN_RTOL of the residual. */
-	double rtol = GN_RTOL, eabs = 0;
-	if (g->nfr > 0) {
-		double g2 = 0;
-		for (int i = 0; i < w->n; i++)
-			s[i] = 0;
-		for (int k = 0; k < m->nc; k++) {
-			int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
-			const double *jv = g->jv + g->eoff[k], *R = g->R + g->roff[k];
-			for (int a = 0; a < g->roff[k + 1] - g->roff[k]; a++)
-				for (int sl = 0; sl < nsk; sl++)
-					s[g->col[s0 + sl]] += 2 * jv[a * nsk + sl] * R[a];
-		}
-		for (int i = 0; i < w->n; i++)
-			g2 += s[i] * s[i];
-		rtol = 0;
-		eabs = fmax(GN_FR_FTOL * w->ftol, GN_FR_ETA * g2);
-	}
 	if (!g->have || g->nstale >= GN_STALE_CG || gn_solve(g, 0, rtol, eabs) != 0) {
 		g->have = 0;
 		g->nstale = 0;
@@ -580,20 +586,9 @@ int relax_gnstep(const double *x, double lambda, double *s, double pd[2], void *
 		g->have = 1;
 		gn_solve(g, 1, rtol, eabs);
 	}
-	memset(s, 0, (size_t)w->n * sizeof *s);
-	for (int k = 0; k < m->nc; k++) {
-		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
-		const double *jv = g->jv + g->eoff[k], *y = g->y + g->roff[k];
-		int nr = g->roff[k + 1] - g->roff[k];
-		if (nr == 2) {
-			for (int sl = 0; sl < nsk; sl++)
-				s[g->col[s0 + sl]] -= jv[sl] * y[0] + jv[nsk + sl] * y[1];
-			continue;
-		}
-		for (int a = 0; a < nr; a++)
-			for (int sl = 0; sl < nsk; sl++)
-				s[g->col[s0 + sl]] -= jv[a * nsk + sl] * y[a];
-	}
+	gn_jt(w, g->y, s);
+	for (int i = 0; i < w->n; i++)
+		s[i] = -s[i];
 	double rjs = 0, jss = 0;
 	for (int k = 0; k < m->nc; k++) {
 		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
