@@ -34,6 +34,7 @@ void relax_gn_free(struct gn *g)
 	free(g->p);
 	free(g->q);
 	free(g->r);
+	free(g->tn);
 	free(g->fbuf);
 	*g = (struct gn){ 0 };
 }
@@ -80,8 +81,10 @@ static int gn_pattern(relax_work *w)
 	g->tslot = malloc((4 * (size_t)ncorner + 1) * sizeof *g->tslot);
 	g->tw = malloc((4 * (size_t)ncorner + 1) * sizeof *g->tw);
 	g->r = malloc((2 * (size_t)w->nv + 1) * sizeof *g->r);
+	g->tn = malloc(((size_t)n + 1) * sizeof *g->tn);
 	g->cptr = calloc((size_t)n + 2, sizeof *g->cptr);
-	if (!g->sp || !g->roff || !g->eoff || !g->col || !g->tslot || !g->tw || !g->r || !g->cptr)
+	if (!g->sp || !g->roff || !g->eoff || !g->col || !g->tslot || !g->tw || !g->r || !g->tn ||
+	    !g->cptr)
 		return MESH_ENOMEM;
 	int ns = 0, nfr = 0, nkmax = 0;
 	for (int k = 0; k < nc; k++)
@@ -410,14 +413,19 @@ static int gn_jacobian(relax_work *w, const double *x)
 		double *ja = g->jv + g->eoff[k], *jp = ja + nsk;
 		for (int sl = 0; sl < nsk; sl++)
 			ja[sl] = jp[sl] = 0;
-		double A = 0, P = 0;
+		double A = 0, P = 0, lp = 0;
 		for (int i = 0; i < nk; i++) {
 			int cp = c0 + (i + nk - 1) % nk, cc = c0 + i, cn = c0 + (i + 1) % nk;
 			double xp = r[2 * m->cv[cp]] + m->cimg[2 * cp], yp = r[2 * m->cv[cp] + 1] + m->cimg[2 * cp + 1];
 			double xc = r[2 * m->cv[cc]] + m->cimg[2 * cc], yc = r[2 * m->cv[cc] + 1] + m->cimg[2 * cc + 1];
 			double xn = r[2 * m->cv[cn]] + m->cimg[2 * cn], yn = r[2 * m->cv[cn] + 1] + m->cimg[2 * cn + 1];
 			A += 0.5 * (xc * yn - xn * yc);
-			double lp = hypot(xc - xp, yc - yp), ln = hypot(xn - xc, yn - yc);
+			/* each edge once: this corner's incoming edge is the last
+			 * one's outgoing edge (sqrt, not hypot: lengths are O(1),
+			 * and hypot was 5 % of a floppy sweep's profile) */
+			if (i == 0)
+				lp = sqrt((xc - xp) * (xc - xp) + (yc - yp) * (yc - yp));
+			double ln = sqrt((xn - xc) * (xn - xc) + (yn - yc) * (yn - yc));
 			P += ln;
 			double da[2] = { 0.5 * (yn - yp), 0.5 * (xp - xn) };
 			double dp[2] = { (xc - xp) / lp - (xn - xc) / ln, (yc - yp) / lp - (yn - yc) / ln };
@@ -432,11 +440,71 @@ static int gn_jacobian(relax_work *w, const double *x)
 					jp[sl - s0] += dp[d] * u;
 				}
 			}
+			lp = ln;
 		}
 		g->R[g->roff[k]] = ska * (A - 1);
 		g->R[g->roff[k] + 1] = P - p0;
 	}
 	return 0;
+}
+
+/* out = J^T v (n values; v one per row). */
+static void gn_jt(const relax_work *w, const double *v, double *out)
+{
+	const struct gn *g = &w->gn;
+	memset(out, 0, (size_t)w->n * sizeof *out);
+	for (int k = 0; k < w->m->nc; k++) {
+		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0, nr = g->roff[k + 1] - g->roff[k];
+		const double *jv = g->jv + g->eoff[k], *vk = v + g->roff[k];
+		if (nr == 2) {
+			for (int sl = 0; sl < nsk; sl++)
+				out[g->col[s0 + sl]] += jv[sl] * vk[0] + jv[nsk + sl] * vk[1];
+			continue;
+		}
+		for (int a = 0; a < nr; a++)
+			for (int sl = 0; sl < nsk; sl++)
+				out[g->col[s0 + sl]] += jv[a * nsk + sl] * vk[a];
+	}
+}
+
+/* q = (J J^T + lam I) p through J^T and J.  Only a factorization needs
+ * J J^T assembled (gn_assemble); at most steps the factor held serves,
+ * and assembling it at every step cost more than its products saved
+ * (with gn_jacobian's edge lengths: 0.78-0.91 of the CPU a junction,
+ * bench/RESULTS.md). */
+static void gn_kmul(const relax_work *w, double lam, const double *p, double *q)
+{
+	const struct gn *g = &w->gn;
+	gn_jt(w, p, g->tn);
+	for (int k = 0; k < w->m->nc; k++) {
+		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
+		const double *jv = g->jv + g->eoff[k];
+		for (int a = g->roff[k]; a < g->roff[k + 1]; a++, jv += nsk) {
+			double u = lam * p[a];
+			for (int sl = 0; sl < nsk; sl++)
+				u += jv[sl] * g->tn[g->col[s0 + sl]];
+			q[a] = u;
+		}
+	}
+}
+
+/* The largest diagonal entry of J J^T: the largest |row of J|^2 (a
+ * cell's slots are distinct variables). */
+static double gn_diagmax(const relax_work *w)
+{
+	const struct gn *g = &w->gn;
+	double dm = 0;
+	for (int k = 0; k < w->m->nc; k++) {
+		int nsk = g->sp[k + 1] - g->sp[k];
+		const double *jv = g->jv + g->eoff[k];
+		for (int a = g->roff[k]; a < g->roff[k + 1]; a++, jv += nsk) {
+			double u = 0;
+			for (int sl = 0; sl < nsk; sl++)
+				u += jv[sl] * jv[sl];
+			dm = fmax(dm, u);
+		}
+	}
+	return dm;
 }
 
 /* y = (J J^T + lambda I)^{-1} R by conjugate gradients on K = J J^T +
@@ -459,8 +527,9 @@ static int gn_jacobian(relax_work *w, const double *x)
 #define GN_FR_FTOL 0.01
 #define GN_STALE_CG 12
 #define GN_FRESH_CG 20
-static int gn_solve(struct gn *g, int fresh, double rtol, double eabs)
+static int gn_solve(relax_work *w, int fresh, double lam, double rtol, double eabs)
 {
+	struct gn *g = &w->gn;
 	const int m = g->m, cap = fresh ? GN_FRESH_CG : GN_STALE_CG;
 	double *r = g->e, *z = g->z, *p = g->p, *q = g->q;
 	double rr0 = 0, rz = 0;
@@ -478,7 +547,7 @@ static int gn_solve(struct gn *g, int fresh, double rtol, double eabs)
 	}
 	for (int it = 0; it < cap; it++) {
 		g->nstale += !fresh;
-		spsym_mulvec(g->k, p, q);
+		gn_kmul(w, lam, p, q);
 		double pq = 0, rr = 0;
 		for (int i = 0; i < m; i++)
 			pq += p[i] * q[i];
@@ -503,40 +572,10 @@ static int gn_solve(struct gn *g, int fresh, double rtol, double eabs)
 	return fresh ? 0 : -1;
 }
 
-/* out = J^T v (n values; v one per row). */
-static void gn_jt(const relax_work *w, const double *v, double *out)
+/* K = J J^T + lam I into g->k, for a factorization. */
+static void gn_assemble(relax_work *w, double lam)
 {
-	const struct gn *g = &w->gn;
-	memset(out, 0, (size_t)w->n * sizeof *out);
-	for (int k = 0; k < w->m->nc; k++) {
-		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0, nr = g->roff[k + 1] - g->roff[k];
-		const double *jv = g->jv + g->eoff[k], *vk = v + g->roff[k];
-		if (nr == 2) {
-			for (int sl = 0; sl < nsk; sl++)
-				out[g->col[s0 + sl]] += jv[sl] * vk[0] + jv[nsk + sl] * vk[1];
-			continue;
-		}
-		for (int a = 0; a < nr; a++)
-			for (int sl = 0; sl < nsk; sl++)
-				out[g->col[s0 + sl]] += jv[a * nsk + sl] * vk[a];
-	}
-}
-
-/* The Levenberg-Marquardt step of W = |R|^2 at x: s = -(J^T J + lambda
- * I)^{-1} J^T R = -J^T (J J^T + lambda I)^{-1} R (the m x m form: about
- * 2 nc rows against 2 nv variables), and the model's terms pd[0] = 2
- * R.Js, pd[1] = |J s|^2 (with a frustrated cell's rows the model is
- * Newton's for that cell: gn_newton_rows).  0, or nonzero when J J^T +
- * lambda I is not numerically positive definite. */
-int relax_gnstep(const double *x, double lambda, double *s, double pd[2], void *data)
-{
-	relax_work *w = data;
 	struct gn *g = &w->gn;
-	const mesh *m = w->m;
-	if (!g->ok && gn_pattern(w) != MESH_OK)
-		return -1;
-	if (gn_jacobian(w, x) != 0)
-		return -1;
 	spsym_zero(g->k);
 	long q = 0;
 	for (int c = 0; c < w->n; c++)
@@ -555,12 +594,29 @@ int relax_gnstep(const double *x, double lambda, double *s, double pd[2], void *
 							g->k->val[kp[a * rf + b]] += je[a * ne] * jf[b * nf];
 			}
 		}
+	for (int i = 0; i < g->m; i++)
+		g->k->val[g->k->colp[i]] += lam;
+}
+
+/* The Levenberg-Marquardt step of W = |R|^2 at x: s = -(J^T J + lambda
+ * I)^{-1} J^T R = -J^T (J J^T + lambda I)^{-1} R (the m x m form: about
+ * 2 nc rows against 2 nv variables), and the model's terms pd[0] = 2
+ * R.Js, pd[1] = |J s|^2 (with a frustrated cell's rows the model is
+ * Newton's for that cell: gn_newton_rows).  0, or nonzero when J J^T +
+ * lambda I is not numerically positive definite. */
+int relax_gnstep(const double *x, double lambda, double *s, double pd[2], void *data)
+{
+	relax_work *w = data;
+	struct gn *g = &w->gn;
+	const mesh *m = w->m;
+	if (!g->ok && gn_pattern(w) != MESH_OK)
+		return -1;
+	if (gn_jacobian(w, x) != 0)
+		return -1;
 	/* lambda at least 1e-10 of the largest diagonal entry: where J J^T
 	 * turns singular (the held length at the end of the tissue's floppy
 	 * range) the solves stay accurate */
-	double floor = 1e-10 * spsym_diagmax(g->k);
-	for (int i = 0; i < g->m; i++)
-		g->k->val[g->k->colp[i]] += fmax(lambda, floor);
+	double lam = fmax(lambda, 1e-10 * gn_diagmax(w));
 	/* With a frustrated cell's rows the residual does not go to zero
 	 * (its energy is balanced by forces of O(0.1)): the solve is judged
 	 * by the model's gradient it leaves, 2 J^T e for a residual e, as in
@@ -577,14 +633,15 @@ int relax_gnstep(const double *x, double lambda, double *s, double pd[2], void *
 	 * it was made stay below about one factorization's worth (one
 	 * costs as much as GN_STALE_CG iterations on the 324-cell samples),
 	 * the rule that wastes at most twice the least possible. */
-	if (!g->have || g->nstale >= GN_STALE_CG || gn_solve(g, 0, rtol, eabs) != 0) {
+	if (!g->have || g->nstale >= GN_STALE_CG || gn_solve(w, 0, lam, rtol, eabs) != 0) {
 		g->have = 0;
 		g->nstale = 0;
 		w->gnfactor++;
+		gn_assemble(w, lam);
 		if (spchol_factor(g->ch, g->k, 0) != MESH_OK)
 			return -1;
 		g->have = 1;
-		gn_solve(g, 1, rtol, eabs);
+		gn_solve(w, 1, lam, rtol, eabs);
 	}
 	gn_jt(w, g->y, s);
 	for (int i = 0; i < w->n; i++)

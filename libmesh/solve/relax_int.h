@@ -113,6 +113,7 @@ struct relax_work {
 		                  solve's residual, preconditioned residual,
 		                  direction and product */
 		double *r;        /* held: the coordinates of x */
+		double *tn;       /* n: J^T p in gn_kmul */
 		double *fbuf;     /* a frustrated cell's scratch */
 		int nkmax;
 		int ok;           /* built for the held junction (or free) */
