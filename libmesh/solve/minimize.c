@@ -480,7 +480,7 @@ static int stage_newton(ctx *c, double *xio)
 		const double *zz = usepc && c->o->pcapply(r, z, c->data) == 0 ? z : r;
 		memcpy(p, zz, n * sizeof *p);
 		double rz = cdot(c, r, zz);
-		int k;
+		int k, abandon = 0;
 		for (k = 0; k < n + 10 && budget_left(c); k++) {
 			hessvec(c, x, p, hp);
 			double php = cdot(c, p, hp);
@@ -500,12 +500,21 @@ static int stage_newton(ctx *c, double *xio)
 			double rrn = cdot(c, r, r);
 			if (sqrt(rrn) <= rstop)
 				break;
+			if (c->o->pcstale > 0 && usepc && canpc && c->npc == npc0 &&
+			    k + 1 >= c->o->pcstale && c->nhv - hvbuild >= PC_AMORT) {
+				abandon = 1;
+				break;
+			}
 			zz = usepc && c->o->pcapply(r, z, c->data) == 0 ? z : r;
 			double rzn = cdot(c, r, zz);
 #pragma omp parallel for num_threads(c->nt) if (c->nt > 1) schedule(static)
 			for (int i = 0; i < n; i++)
 				p[i] = zz[i] + rzn / rz * p[i];
 			rz = rzn;
+		}
+		if (abandon) {
+			rebuild = 1;
+			continue;
 		}
 		/* A rebuild costs as much as ~40 solves: never more often
 		 * than every PC_AMORT products (a floppy tissue keeps CG

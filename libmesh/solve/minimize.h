@@ -105,6 +105,12 @@ typedef struct min_opts {
 	                      indefinite region, forcelen.c tries the other
 	                      when one ends short) */
 	int pcmaxit;       /* default 6 (bench/RESULTS.md) */
+	int pcstale;       /* MIN_NEWTON: a CG on a factor not built at this
+	                      iterate that has taken pcstale products without
+	                      reaching its tolerance is abandoned and the
+	                      factor built at x (0, the default: never; for
+	                      a complete factor, which a fresh build makes
+	                      nearly exact: relax.h) */
 	volatile sig_atomic_t *stop; /* if not NULL: once *stop is nonzero the
 	                      method stops at its next evaluation and min_run
 	                      returns the best point so far, as when the budget

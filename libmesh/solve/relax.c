@@ -838,6 +838,8 @@ int relax_solve(relax_work *w, const min_opts *o, const volatile sig_atomic_t *s
 	adapt(w, &mo);
 	if (!mo.precond)
 		mo.pcsetup = NULL, mo.pcshift = NULL, mo.pcapply = NULL;
+	if (mo.pcstale == 0)
+		mo.pcstale = RELAX_PCSTALE;
 	w->ustop2 = stop;
 	w->lstop = RELAX_COLLAPSE;
 	w->lwatch = RELAX_WATCH;

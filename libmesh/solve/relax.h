@@ -106,6 +106,14 @@ void relax_set_length(relax_work *w, double l);
  * nothing to extrapolate from). */
 void relax_slide(relax_work *w, double l, double dl);
 
+/* A point's Newton-CG abandons a CG on the factor of an earlier point or
+ * step after RELAX_PCSTALE products and builds one at its iterate
+ * (min_opts.pcstale; the held factor is complete, so a fresh one takes
+ * CG a few products): near a rigidity transition such a CG ran to 100-376
+ * products, about four factorizations' worth (disordered-3 relaxed at
+ * p0 3.83; bench/RESULTS.md).  A caller's nonzero pcstale is kept. */
+#define RELAX_PCSTALE 25
+
 /* A junction shorter than RELAX_COLLAPSE (lengths in units of sqrt(A0))
  * after RELAX_WATCH evaluations and products of one point has no minimum
  * at fixed topology to reach, only a T1 would resolve it, and the
