@@ -163,9 +163,10 @@ typedef struct min_report {
 
 /* Defaults: MIN_NEWTON (fastest to every force level in bench/relax.sh,
  * see bench/RESULTS.md) with polish, ftol 1e-10, maxeval 100000, gnorm,
- * hessvec, pcsetup, pcapply and stop NULL, pcmaxit 6, precond 1, pcmem 4e9,
- * pckind MIN_PC_AUTO, pcblock MIN_PC_BLOCK, prox 0, lstop 0.  maxeval bounds objective evaluations plus Hessian-vector
- * products together. */
+ * hessvec, pcsetup, pcapply, pcshift, gnstep and stop NULL, pcmaxit 6,
+ * pcstale 0, precond 1, pcmem 4e9, pckind MIN_PC_AUTO, pcblock
+ * MIN_PC_BLOCK, prox 0, lstop 0.  maxeval bounds objective evaluations
+ * plus Hessian-vector products together. */
 void min_opts_init(min_opts *o);
 
 /* Name <-> algorithm ("lbfgs", "fire", "bfgs2", "newton", "tnewton",
