@@ -426,7 +426,9 @@ static void hessvec(ctx *c, const double *x, const double *v, double *hv)
  * built only when plain CG needed more than PC_PLAIN iterations, or when
  * the caller handed one in (a sweep), and rebuilt at the current point when
  * a solve took more than pcmaxit iterations (and PC_AMORT products were
- * done with the old one).  A step is accepted on
+ * done with the old one), or, where the caller asks (pcstale), at once
+ * when a solve on a factor not built at this point reaches pcstale
+ * iterations; the solve then starts again.  A step is accepted on
  * the Armijo condition with an energy decrease beyond rounding, or, when
  * energies are equal to rounding, when the force goes down: near the
  * minimum the energy can no longer tell better from worse, the force
