@@ -467,6 +467,22 @@ static void gn_jt(const relax_work *w, const double *v, double *out)
 	}
 }
 
+/* out = J v + lam p (one per row; p NULL: J v). */
+static void gn_jmul(const relax_work *w, const double *v, double lam, const double *p, double *out)
+{
+	const struct gn *g = &w->gn;
+	for (int k = 0; k < w->m->nc; k++) {
+		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
+		const double *jv = g->jv + g->eoff[k];
+		for (int a = g->roff[k]; a < g->roff[k + 1]; a++, jv += nsk) {
+			double u = p ? lam * p[a] : 0;
+			for (int sl = 0; sl < nsk; sl++)
+				u += jv[sl] * v[g->col[s0 + sl]];
+			out[a] = u;
+		}
+	}
+}
+
 /* q = (J J^T + lam I) p through J^T and J.  Only a factorization needs
  * J J^T assembled (gn_assemble); at most steps the factor held serves,
  * and assembling it at every step cost more than its products saved
@@ -474,18 +490,8 @@ static void gn_jt(const relax_work *w, const double *v, double *out)
  * bench/RESULTS.md). */
 static void gn_kmul(const relax_work *w, double lam, const double *p, double *q)
 {
-	const struct gn *g = &w->gn;
-	gn_jt(w, p, g->tn);
-	for (int k = 0; k < w->m->nc; k++) {
-		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
-		const double *jv = g->jv + g->eoff[k];
-		for (int a = g->roff[k]; a < g->roff[k + 1]; a++, jv += nsk) {
-			double u = lam * p[a];
-			for (int sl = 0; sl < nsk; sl++)
-				u += jv[sl] * g->tn[g->col[s0 + sl]];
-			q[a] = u;
-		}
-	}
+	gn_jt(w, p, w->gn.tn);
+	gn_jmul(w, w->gn.tn, lam, p, q);
 }
 
 /* The largest diagonal entry of J J^T: the largest |row of J|^2 (a
@@ -646,27 +652,21 @@ int relax_gnstep(const double *x, double lambda, double *s, double pd[2], void *
 	gn_jt(w, g->y, s);
 	for (int i = 0; i < w->n; i++)
 		s[i] = -s[i];
-	double rjs = 0, jss = 0;
+	/* the model's terms from J s (g->e: the solve is done with it),
+	 * summed a cell at a time */
+	double *js = g->e, rjs = 0, jss = 0;
+	gn_jmul(w, s, 0, NULL, js);
 	for (int k = 0; k < m->nc; k++) {
-		int s0 = g->sp[k], nsk = g->sp[k + 1] - s0;
-		const double *jv = g->jv + g->eoff[k], *R = g->R + g->roff[k];
-		int nr = g->roff[k + 1] - g->roff[k];
+		int r0 = g->roff[k], nr = g->roff[k + 1] - r0;
+		const double *R = g->R + r0, *u = js + r0;
 		if (nr == 2) {
-			double a = 0, b = 0;
-			for (int sl = 0; sl < nsk; sl++) {
-				a += jv[sl] * s[g->col[s0 + sl]];
-				b += jv[nsk + sl] * s[g->col[s0 + sl]];
-			}
-			rjs += R[0] * a + R[1] * b;
-			jss += a * a + b * b;
+			rjs += R[0] * u[0] + R[1] * u[1];
+			jss += u[0] * u[0] + u[1] * u[1];
 			continue;
 		}
 		for (int a = 0; a < nr; a++) {
-			double u = 0;
-			for (int sl = 0; sl < nsk; sl++)
-				u += jv[a * nsk + sl] * s[g->col[s0 + sl]];
-			rjs += R[a] * u;
-			jss += u * u;
+			rjs += R[a] * u[a];
+			jss += u[a] * u[a];
 		}
 	}
 	pd[0] = 2 * rjs;
