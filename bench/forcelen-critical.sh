@@ -29,11 +29,8 @@ NEWSEL=${NEWSEL:-20}
 BIN=${NEW:-$top/bin}
 mkdir -p "$OUT"
 
-mesh() {
-	m=$OUT/d$1-$2.mesh
-	[ -s "$m" ] || "$BIN/tis-relax" -q --p0 "$2" "$top/samples/disordered-$1.mesh" >"$m" 2>/dev/null || true
-	echo "$m"
-}
+. "$top/bench/lib.sh"
+mesh() { sample_mesh "$BIN" "$OUT" "$1" "$2"; }
 
 printf 'sample\tp0\tnzero\tmedian_abs_a1\tp10_abs_a1\n'
 for s in $SAMPLES; do

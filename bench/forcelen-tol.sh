@@ -27,12 +27,12 @@ REF=${REF:-1e-12}
 OUT=${OUT:-$top/bench/out/transition}
 BIN=${NEW:-$top/bin}
 mkdir -p "$OUT"
+. "$top/bench/lib.sh"
 
 printf 'sample\tp0\ttol\tcpu_s\tpoints\tok\tno_minimum\tnot_converged\tcommon\tmax_abs_df\tp99_abs_df\n'
 for s in $SAMPLES; do
 	for p in $P0; do
-		m=$OUT/d$s-$p.mesh
-		[ -s "$m" ] || "$BIN/tis-relax" -q --p0 "$p" "$top/samples/disordered-$s.mesh" >"$m" 2>/dev/null || true
+		m=$(sample_mesh "$BIN" "$OUT" "$s" "$p")
 		for t in $REF $TOLS; do
 			f=$OUT/tol-d$s-$p-$t
 			[ -s "$f.tsv" ] || /usr/bin/time -f '%U %S' -o "$f.time" "$BIN/tis-forcelen" --random "$K" \

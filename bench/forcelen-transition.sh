@@ -61,10 +61,10 @@ if [ "${1:-}" = run ]; then
 	run "$2" "$3" "$4" "$5"
 	exit 0
 fi
+. "$top/bench/lib.sh"
 for s in $SAMPLES; do
 	for p in $P0; do
-		m=$OUT/d$s-$p.mesh
-		[ -s "$m" ] || "$NEW/tis-relax" -q --p0 "$p" "$top/samples/disordered-$s.mesh" >"$m" 2>/dev/null || true
+		sample_mesh "$NEW" "$OUT" "$s" "$p" >/dev/null
 	done
 done
 # the jobs, JOBS at a time: new --all, new subset, old subset

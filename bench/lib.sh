@@ -1,6 +1,14 @@
 # lib.sh - what the benchmark scripts share; source it after setting T (a
 # scratch directory).  Not executable, so make bench does not run it.
 now() { date +%s.%N; }
+# sample_mesh BIN OUT S P: samples/disordered-S relaxed at p0 P by BIN's
+# tis-relax, made once into OUT/dS-P.mesh (the meshes the forcelen-*
+# benchmarks share, from $top); prints its path
+sample_mesh() {
+	_m=$2/d$3-$4.mesh
+	[ -s "$_m" ] || "$1/tis-relax" -q --p0 "$4" "$top/samples/disordered-$3.mesh" >"$_m" 2>/dev/null || true
+	echo "$_m"
+}
 # bench_cc OUT SRC: a bench program linked against the library the build
 # made, from the top of the tree (or $top)
 bench_cc() {
