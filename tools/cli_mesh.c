@@ -125,8 +125,9 @@ void cli_write_mesh(const mesh *m)
 		cli_write_error("stdout");
 }
 
-void cli_write_frame(mesh *m, double t)
+void cli_write_frame(void *data, mesh *m, double t)
 {
+	(void)data;
 	const char *had = mesh_state_get(m, "t");
 	char ts[32], old[64] = "";
 	if (had)
@@ -140,6 +141,13 @@ void cli_write_frame(mesh *m, double t)
 		mesh_state_del(m, "t");
 	else if (mesh_state_set(m, "t", old) != MESH_OK)
 		cli_die(EXIT_INPUT, "out of memory");
+}
+
+void cli_write_final(const mesh *m, double t, int frames)
+{
+	if (frames)
+		printf("# %s final t %.10g\n", cli_name, t);
+	cli_write_mesh(m);
 }
 
 int cli_continues(const mesh *m)

@@ -45,8 +45,13 @@ void cli_write_mesh(const mesh *m);
 /* Write a frame of a run to stdout: a "# NAME frame t T" comment, then m
  * with a "state t T" line (the frame's time, which tis-info and tis-vtk
  * read); m keeps the state lines it had.  Exit 1 on a write error or out
- * of memory. */
-void cli_write_frame(mesh *m, double t);
+ * of memory.  It is a run's frame callback as it stands (act_io,
+ * anneal_io; data unused). */
+void cli_write_frame(void *data, mesh *m, double t);
+/* Write the mesh a run ended with at time t (cli_write_mesh), after a
+ * "# NAME final t T" comment if frames came before it (frames set): the
+ * comment tells it from them. */
+void cli_write_final(const mesh *m, double t, int frames);
 
 /* Whether m carries the mark of a stopped run of this program (cli_name),
  * which the run about to start continues (tis(7); the library checks the

@@ -42,25 +42,6 @@ int cli_one_d(const char *name)
 	return p && p[1] == 'd' && strchr(p + 1, '%') == NULL;
 }
 
-void cli_numbered_name(char *name, size_t size, const char *pattern, int j)
-{
-	const char *p = j >= 0 ? strstr(pattern, "%d") : NULL;
-	if (p)
-		snprintf(name, size, "%.*s%d%s", (int)(p - pattern), pattern, j, p + 2);
-	else
-		snprintf(name, size, "%s", pattern);
-}
-
-FILE *cli_open_numbered(const char *pattern, int j)
-{
-	char name[4096];
-	cli_numbered_name(name, sizeof name, pattern, j);
-	FILE *f = fopen(name, "w");
-	if (f == NULL)
-		cli_die(EXIT_INPUT, "%s: cannot open for writing", name);
-	return f;
-}
-
 /* FNV-1a (64 bits) of the first n bytes of f from its start; *got: how
  * many it has, if fewer. */
 static unsigned long long file_hash(FILE *f, long long n, long long *got)
@@ -90,6 +71,8 @@ void cli_runtable_take(cli_runtable *t, mesh *m, const char *name, const char *p
                        int continued)
 {
 	*t = (cli_runtable){ .name = name, .path = path, .continued = continued };
+	if (path)
+		snprintf(t->file, sizeof t->file, "%s", path);
 	char sn[64];
 	record_name(t, sn, sizeof sn);
 	const char *rec = mesh_state_get(m, sn);
@@ -128,11 +111,32 @@ static int same_columns(FILE *f, long long n, const char *cols)
 	return same;
 }
 
+void cli_runtable_numbered(cli_runtable *t, mesh *m, const char *name, const char *path, int j)
+{
+	if (j < 0) {
+		cli_runtable_take(t, m, name, path, cli_continues(m));
+		return;
+	}
+	*t = (cli_runtable){ .name = name, .path = path, .numbered = 1 };
+	const char *d = path ? strstr(path, "%d") : NULL;
+	if (d)
+		snprintf(t->file, sizeof t->file, "%.*s%d%s", (int)(d - path), path, j, d + 2);
+	else if (path)
+		snprintf(t->file, sizeof t->file, "%s", path);
+}
+
 FILE *cli_runtable_open(cli_runtable *t, const mesh *m, const char *cols)
 {
 	if (t->path == NULL)
 		return NULL;
 	const char *path = t->path;
+	if (t->numbered) {
+		t->f = fopen(t->file, "w");
+		if (t->f == NULL)
+			cli_die(EXIT_INPUT, "%s: cannot open for writing", t->file);
+		cli_table_header_run(t->f, m, cols);
+		return t->f;
+	}
 	if (!t->continued || !t->has_record) {
 		struct stat sb;
 		/* a file the run that stopped may have written, and kept no
@@ -182,6 +186,10 @@ int cli_runtable_close(cli_runtable *t, mesh *m, const char *note, int stopped)
 		return 0;
 	FILE *f = t->f;
 	t->f = NULL;
+	if (t->numbered) {   /* no run continues one of several: no note, no record */
+		note = NULL;
+		stopped = 0;
+	}
 	if (note)
 		fprintf(f, "# %s %s\n", cli_name, note);
 	errno = 0;

@@ -22,12 +22,8 @@ void cli_table_header_run(FILE *f, const mesh *m, const char *cols);
  * Returns if the program was not told to stop. */
 void cli_table_stopped(void);
 
-/* An output file for run j of several: its name is pattern with its one
- * "%d" replaced by j (cli_one_d says whether it has that), or pattern
- * itself for j < 0.  Exit 1 if it cannot be opened for writing. */
-FILE *cli_open_numbered(const char *pattern, int j);
-/* That name, into name (size bytes), for messages about the file. */
-void cli_numbered_name(char *name, size_t size, const char *pattern, int j);
+/* Whether name has one "%d" and no other '%': the pattern of the files
+ * of several runs (cli_runtable_numbered). */
 int cli_one_d(const char *name);
 
 /* A table a run writes beside its mesh (tis-active --trace and --events,
@@ -52,11 +48,14 @@ int cli_one_d(const char *name);
  * or if a continued run that left no record would overwrite a file.
  * cli_runtable_close: note (NULL for a run that finished) as the last
  * line, and for a stopped run (stopped set) the record in m (exit 1 if
- * out of memory); 0, or the errno of a write error (the caller says so:
- * tis-anneal writes its mesh first). */
+ * out of memory); 0, or the errno of a write error (the caller says so,
+ * naming file: tis-anneal writes its mesh first). */
 typedef struct {
 	const char *name, *path;
+	char file[4096];                 /* the file's name, for messages: path,
+	                                    a numbered one's with j for its %d */
 	int continued, has_record;
+	int numbered;                    /* run j of several (below) */
 	long long bytes;                 /* the record: size and hash */
 	unsigned long long hash;
 	FILE *f;
@@ -65,5 +64,15 @@ void cli_runtable_take(cli_runtable *t, mesh *m, const char *name, const char *p
                        int continued);
 FILE *cli_runtable_open(cli_runtable *t, const mesh *m, const char *cols);
 int cli_runtable_close(cli_runtable *t, mesh *m, const char *note, int stopped);
+
+/* cli_runtable_numbered, before the run: the table of run j of several
+ * (j >= 0; tis-active --random), which no run continues: a new file each
+ * run, at path with its one "%d" replaced by j; cli_runtable_open writes
+ * just the provenance header (exit 1 if the file cannot be opened),
+ * cli_runtable_close neither note nor record.  For j < 0 the one run's
+ * table, cli_runtable_take's, continued if m is a stopped run's
+ * (cli_continues), so that a program of one run or several sets up its
+ * tables one way. */
+void cli_runtable_numbered(cli_runtable *t, mesh *m, const char *name, const char *path, int j);
 
 #endif

@@ -158,97 +158,68 @@ static struct opts parse(int argc, char **argv)
 /* The outputs of one run. */
 struct out {
 	const struct opts *o;
-	int jfile;          /* the number in the file names (-1: as given) */
-	FILE *f[2];         /* the trace and the events (act_tables) */
-	cli_runtable *rt;   /* one run: its trace and events, which a run that
-	                       continues it goes on writing (NULL: several) */
+	cli_runtable rt[2];   /* the trace and the events (act_tables) */
 	cli_progress pr;
 };
 
-static void progress(const struct out *u, const act_counts *c)
+/* The progress line on a terminal: at most once a second, or (force) now. */
+static void progress(struct out *u, const act_counts *c, int force)
 {
-	fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, c->t, u->o->jo.t_end,
-	        c->nstep, c->nt1);
+	if (cli_progress_due(&u->pr, force))
+		fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, c->t,
+		        u->o->jo.t_end, c->nstep, c->nt1);
 }
 
 static void on_step(void *data, const act *a)
 {
-	struct out *u = data;
 	act_counts c;
-	if (cli_progress_due(&u->pr, 0)) {
-		act_counts_get(a, &c);
-		progress(u, &c);
-	}
-}
-
-static void on_frame(void *data, mesh *m, double t)
-{
-	(void)data;
-	cli_write_frame(m, t);
+	act_counts_get(a, &c);
+	progress(data, &c, 0);
 }
 
 static void on_begin(void *data, mesh *m, act_tables *t)
 {
 	struct out *u = data;
 	for (int k = 0; k < 2; k++)
-		if (u->rt)
-			t->f[k] = u->f[k] = cli_runtable_open(&u->rt[k], m, t->cols[k]);
-		else if (u->o->file[k]) {
-			t->f[k] = u->f[k] = cli_open_numbered(u->o->file[k], u->jfile);
-			cli_table_header_run(t->f[k], m, t->cols[k]);
-		}
+		t->f[k] = cli_runtable_open(&u->rt[k], m, t->cols[k]);
 }
 
-/* Run m with junction j active (-1: network), outputs numbered jfile, or
- * (rt not NULL) the one run's. */
-static act_result run(const struct opts *o, mesh *m, const model *p, int j, int jfile,
-                      cli_runtable *rt)
+/* Run m with junction j active (-1: network); jfile: cli_runtable_numbered's. */
+static act_result run(const struct opts *o, mesh *m, const model *p, int j, int jfile)
 {
-	struct out u = { .o = o, .jfile = jfile, .rt = rt };
+	struct out u = { .o = o };
+	for (int k = 0; k < 2; k++)
+		cli_runtable_numbered(&u.rt[k], m, k == ACT_TRACE ? "trace" : "events", o->file[k],
+		                      jfile);
 	cli_progress_init(&u.pr);
-	act_io io = { on_begin, NULL, o->jo.every > 0 ? on_frame : NULL, on_step, &u };
+	act_io io = { on_begin, NULL, o->jo.every > 0 ? cli_write_frame : NULL, on_step, &u };
 	act_result r;
 	mesh_error err;
 	if (act_job(m, p, &o->a, &o->jo, j, &cli_stop, &io, &r, &err) != MESH_OK)
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	if (r.why == ACT_END_NONFINITE)
 		cli_warn("%s", err.msg);
-	if (u.pr.tty) {
-		progress(&u, &r.c);
+	progress(&u, &r.c, 1);
+	if (u.pr.tty)
 		fputc('\n', stderr);
-	}
 	char note[128];
 	int stopped = act_stopped(&r, cli_stop_name(), note, sizeof note);
 	for (int k = 0; k < 2; k++)
-		if (rt ? cli_runtable_close(&rt[k], m, stopped ? note : NULL, stopped) != 0
-		       : u.f[k] && (ferror(u.f[k]) | (fclose(u.f[k]) != 0))) {
-			char name[4096];
-			cli_numbered_name(name, sizeof name, rt ? rt[k].path : o->file[k], jfile);
-			cli_die(EXIT_INPUT, "%s: write error", name);
-		}
+		if (cli_runtable_close(&u.rt[k], m, stopped ? note : NULL, stopped) != 0)
+			cli_die(EXIT_INPUT, "%s: write error", u.rt[k].file);
 	return r;
 }
 
 static void one(const struct opts *o, mesh *m, const model *p, int j)
 {
-	/* one run: the file names as given, continued where a stopped run left
-	 * them */
-	cli_runtable rt[2];
-	cli_runtable_take(&rt[ACT_TRACE], m, "trace", o->file[ACT_TRACE], cli_continues(m));
-	cli_runtable_take(&rt[ACT_EVENTS], m, "events", o->file[ACT_EVENTS], cli_continues(m));
-	act_result r = run(o, m, p, j, -1, rt);
+	act_result r = run(o, m, p, j, -1);
 	char note[512];
 	act_note(note, sizeof note, &o->a, &r);
 	cli_history_note(m, note);
-	if (o->jo.every > 0)
-		printf("# %s final t %.10g\n", cli_name, r.t_end);
-	cli_write_mesh(m);
-	if (act_stopped(&r, NULL, NULL, 0)) {
-		if (fflush(stdout) != 0)
-			cli_write_error("stdout");
+	cli_write_final(m, r.t_end, o->jo.every > 0);
+	if (act_stopped(&r, NULL, NULL, 0))
 		cli_die(EXIT_NOCONV, "%s at t %.6g, wrote the last state",
 			r.why == ACT_END_STOP ? "interrupted" : "stopped: non-finite state", r.t_end);
-	}
 }
 
 static void several(const struct opts *o, const mesh *m0, const model *p, const int *sel, int n)
@@ -260,7 +231,7 @@ static void several(const struct opts *o, const mesh *m0, const model *p, const 
 		mesh *m = mesh_copy(m0);
 		if (m == NULL)
 			cli_die(EXIT_INPUT, "out of memory");
-		act_result r = run(o, m, p, j, j, NULL);
+		act_result r = run(o, m, p, j, j);
 		act_result_write(stdout, m0, j, &r);
 		fflush(stdout);
 		bad |= act_stopped(&r, NULL, NULL, 0);

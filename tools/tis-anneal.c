@@ -182,13 +182,6 @@ static void on_step(void *data, const anneal_status *s)
 	progress(data, s, 0);
 }
 
-static void on_frame(void *data, mesh *m, double t)
-{
-	(void)data;
-	/* a frame carries its time (tis-info, tis-vtk read it) */
-	cli_write_frame(m, t);
-}
-
 int main(int argc, char **argv)
 {
 	cli_init("tis-anneal", usage, argc, argv);
@@ -214,7 +207,7 @@ int main(int argc, char **argv)
 		if (fflush(u.log) != 0)
 			u.log_errno = errno ? errno : EIO;
 	}
-	anneal_io io = { o.a.every > 0 ? on_frame : NULL, u.log ? log_row : NULL,
+	anneal_io io = { o.a.every > 0 ? cli_write_frame : NULL, u.log ? log_row : NULL,
 	                 tty ? on_step : NULL, &u };
 	anneal_result r;
 	if (anneal_run(m, &p, &o.a, was, &cli_stop, &io, &r, &err) != MESH_OK)
@@ -233,9 +226,7 @@ int main(int argc, char **argv)
 	int e = cli_runtable_close(&log, m, done ? NULL : why, !done);
 	if (e && !u.log_errno)
 		u.log_errno = e;
-	if (o.a.every > 0)
-		printf("# %s final t %.10g\n", cli_name, r.c.t);
-	cli_write_mesh(m);
+	cli_write_final(m, r.c.t, o.a.every > 0);
 	mesh_free(m);
 	if (u.log_errno)
 		cli_finish_status(EXIT_INPUT, "%s: write error: %s%s", o.log, strerror(u.log_errno),
