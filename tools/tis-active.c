@@ -41,7 +41,7 @@ static const char help[] =
 	"                     default in network mode) or bs3 (Runge-Kutta 3(2))\n"
 	"  --rtol X           tolerance (default bdf " STR(ACT_BDF_RTOL) ", dp5 and bs3 " STR(ACT_RK_RTOL) ")\n"
 	"  --ou-dt H          dp5, bs3: noise grid, 1/H whole (default 1/max(100,\n"
-	"                     ceil(20 tau)))\n"
+	"                     ceil(20/tau)))\n"
 	"  --checkpoint T     bdf restarts at multiples of T, where a stop (SIGTERM)\n"
 	"                     waits for; continuing is then bit-exact (default "
 	STR(ACT_BDF_CHECKPOINT) "; 0: never)\n"
@@ -65,7 +65,7 @@ static const char help[] =
 	"                     (columns l_K, dg_K)\n"
 	"  --events FILE      TSV of every T1\n"
 	"  --every T          also write the mesh every T time units (one junction\n"
-	"                     or --network, not --random or --list)\n"
+	"                     or --network, not --random, --regular or --list)\n"
 	"  --threads N        cores to compute on (default: OMP_NUM_THREADS, else all)\n"
 	"  -h, --help         this help\n"
 	"  --version          print the version\n";
