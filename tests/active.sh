@@ -3,7 +3,7 @@
 # several junctions, interruption and continuation.  Short runs on 6x6.
 . "$(dirname "$0")/lib.sh"
 
-plan 64
+plan 65
 
 tis-hex 6 6 --p0 3.65 >"$T/hex.mesh" || exit 1
 H="$T/hex.mesh"
@@ -43,8 +43,10 @@ if [ -w /dev/full ]; then
 	printf '5\n3\n' >"$T/l35"
 	ok "a numbered trace on a full disk: its own name in the message" sh -c "tis-active --list '$T/l35' --trace '$T/full%d.tsv' --time 1 $A '$H' \
 		>/dev/null 2>'$T/tr.err'; [ \$? -eq 1 ] && grep -qx 'tis-active: $T/full3.tsv: write error' '$T/tr.err'"
+	ok "several junctions on a full disk: it stops after the first row" sh -c "tis-active --list '$T/l35' --trace '$T/st%d.tsv' --time 1 $A '$H' \
+		>/dev/full 2>/dev/null; [ \$? -eq 1 ] && test -s '$T/st5.tsv' && test ! -e '$T/st3.tsv'"
 else
-	skip 2 "no /dev/full"
+	skip 3 "no /dev/full"
 fi
 
 # one junction: final mesh, trace, history line

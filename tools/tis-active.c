@@ -233,15 +233,16 @@ static void several(const struct opts *o, const mesh *m0, const model *p, const 
 			cli_die(EXIT_INPUT, "out of memory");
 		act_result r = run(o, m, p, j, j);
 		act_result_write(stdout, m0, j, &r);
-		fflush(stdout);
+		/* a row each as it is done; a reader gone or a full disk ends
+		 * the runs that would follow (glibc drops what it could not
+		 * write, so only this flush can tell) */
+		if (fflush(stdout) != 0)
+			cli_write_error("stdout");
 		bad |= act_stopped(&r, NULL, NULL, 0);
 		mesh_free(m);
 	}
-	if (bad || cli_stop) {
-		if (fflush(stdout) != 0)
-			cli_write_error("stdout");
+	if (bad || cli_stop)
 		cli_die(EXIT_NOCONV, cli_stop ? "interrupted" : "a run went non-finite");
-	}
 }
 
 int main(int argc, char **argv)
