@@ -3,7 +3,7 @@
 # several junctions, interruption and continuation.  Short runs on 6x6.
 . "$(dirname "$0")/lib.sh"
 
-plan 65
+plan 66
 
 tis-hex 6 6 --p0 3.65 >"$T/hex.mesh" || exit 1
 H="$T/hex.mesh"
@@ -48,6 +48,19 @@ if [ -w /dev/full ]; then
 else
 	skip 3 "no /dev/full"
 fi
+
+# several junctions stopped: the running one's numbered trace says so
+tis-active --random 2 --seed 1 --time 1e6 $A --trace "$T/int%d.tsv" "$H" >"$T/int.out" 2>/dev/null &
+pid=$!
+for i in $(seq 50); do
+	[ -n "$(ls "$T"/int*.tsv 2>/dev/null)" ] && break
+	sleep 0.2
+done
+sleep 0.3
+kill -TERM $pid
+wait $pid; st=$?
+ok "several junctions stopped: status 3, the running trace ends with the note" sh -c "[ $st -eq 3 ] && \
+	tail -n 1 \$(ls '$T'/int*.tsv | head -1) | grep -q '^# tis-active interrupted by SIGTERM at t '"
 
 # one junction: final mesh, trace, history line
 tis-active --index 0 $A --time 20 --trace "$T/tr.tsv" "$H" >"$T/a.mesh" 2>"$T/a.err"

@@ -186,10 +186,10 @@ int cli_runtable_close(cli_runtable *t, mesh *m, const char *note, int stopped)
 		return 0;
 	FILE *f = t->f;
 	t->f = NULL;
-	if (t->numbered) {   /* no run continues one of several: no note, no record */
-		note = NULL;
+	/* no run continues one of several: no record; the note still tells
+	 * a reader of the file that its run stopped early */
+	if (t->numbered)
 		stopped = 0;
-	}
 	if (note)
 		fprintf(f, "# %s %s\n", cli_name, note);
 	errno = 0;

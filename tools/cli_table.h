@@ -69,7 +69,7 @@ int cli_runtable_close(cli_runtable *t, mesh *m, const char *note, int stopped);
  * (j >= 0; tis-active --random), which no run continues: a new file each
  * run, at path with its one "%d" replaced by j; cli_runtable_open writes
  * just the provenance header (exit 1 if the file cannot be opened),
- * cli_runtable_close neither note nor record.  For j < 0 the one run's
+ * cli_runtable_close its note but no record.  For j < 0 the one run's
  * table, cli_runtable_take's, continued if m is a stopped run's
  * (cli_continues), so that a program of one run or several sets up its
  * tables one way. */
