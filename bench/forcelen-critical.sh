@@ -12,7 +12,7 @@
 # Part 2, the spread (PERJ="SAMPLE:P0 ..."): each of the seeded junctions
 # the transition benchmark uses (--random NEWSEL --seed 1, default 20)
 # swept alone, one thread, CPU seconds per junction (user + system):
-# min, median, max and the largest share of the total.  A sample near its
+# min, median, max, the largest share of the total and the mean.  A sample near its
 # transition is slow at every junction; a tail is one junction.
 #
 #   sh bench/forcelen-critical.sh
@@ -46,7 +46,7 @@ done
 [ -n "${PERJ:-}" ] || exit 0
 T=$(mktemp -d "${TMPDIR:-/tmp}/forcelen-critical.XXXXXX")
 trap 'rm -rf "$T"' EXIT
-printf '\nsample\tp0\tjunctions\tcpu_min_s\tcpu_median_s\tcpu_max_s\tmax_share\n'
+printf '\nsample\tp0\tjunctions\tcpu_min_s\tcpu_median_s\tcpu_max_s\tmax_share\tcpu_mean_s\n'
 for sp in $PERJ; do
 	s=${sp%%:*} p=${sp#*:}
 	m=$(mesh "$s" "$p")
@@ -55,5 +55,5 @@ for sp in $PERJ; do
 		/usr/bin/time -f '%U %S' -o "$T/t" "$BIN/tis-forcelen" --index "$j" --threads 1 "$m" >/dev/null 2>&1 || true
 		awk '{ print $1 + $2 }' "$T/t" | tail -1
 	done | sort -g | awk -v s="$s" -v p="$p" '{ v[NR] = $1; t += $1 }
-		END { printf "%s\t%s\t%d\t%.2f\t%.2f\t%.2f\t%.2f\n", s, p, NR, v[1], v[int((NR + 1) / 2)], v[NR], (t > 0 ? v[NR] / t : 0) }'
+		END { printf "%s\t%s\t%d\t%.2f\t%.2f\t%.2f\t%.2f\t%.3f\n", s, p, NR, v[1], v[int((NR + 1) / 2)], v[NR], (t > 0 ? v[NR] / t : 0), (NR > 0 ? t / NR : 0) }'
 done
