@@ -162,19 +162,21 @@ struct out {
 	cli_progress pr;
 };
 
-/* The progress line on a terminal: at most once a second, or (force) now. */
-static void progress(struct out *u, const act_counts *c, int force)
+static void progress(const struct out *u, const act_counts *c)
 {
-	if (cli_progress_due(&u->pr, force))
-		fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, c->t,
-		        u->o->jo.t_end, c->nstep, c->nt1);
+	fprintf(stderr, "\r%s: t %.1f/%g  steps %ld  T1s %ld   ", cli_name, c->t, u->o->jo.t_end,
+	        c->nstep, c->nt1);
 }
 
+/* every step: the counts are copied only when the line is due */
 static void on_step(void *data, const act *a)
 {
+	struct out *u = data;
 	act_counts c;
-	act_counts_get(a, &c);
-	progress(data, &c, 0);
+	if (cli_progress_due(&u->pr, 0)) {
+		act_counts_get(a, &c);
+		progress(u, &c);
+	}
 }
 
 static void on_begin(void *data, mesh *m, act_tables *t)
@@ -199,9 +201,10 @@ static act_result run(const struct opts *o, mesh *m, const model *p, int j, int 
 		cli_die(EXIT_INPUT, "%s", err.msg);
 	if (r.why == ACT_END_NONFINITE)
 		cli_warn("%s", err.msg);
-	progress(&u, &r.c, 1);
-	if (u.pr.tty)
+	if (cli_progress_due(&u.pr, 1)) {
+		progress(&u, &r.c);
 		fputc('\n', stderr);
+	}
 	char note[128];
 	int stopped = act_stopped(&r, cli_stop_name(), note, sizeof note);
 	for (int k = 0; k < 2; k++)
